@@ -1,0 +1,48 @@
+#ifndef FLEETMAP_SHARED_CORE_LASER_SCAN_H_
+#define FLEETMAP_SHARED_CORE_LASER_SCAN_H_
+
+#include <limits>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "shared/core/rigid2d.h"
+
+namespace fleetmap {
+
+// A planar laser scan. Beam i points at `angle_min + i * angle_increment` in the sensor frame.
+// A beam that saw nothing within range holds kNoReturn, never a number that looks like a range,
+// so no caller can mistake "nothing there" for "a wall at max range".
+struct LaserScan {
+  static constexpr float kNoReturn = std::numeric_limits<float>::infinity();
+
+  double timestamp = 0.0;  // seconds
+  float angle_min = 0.0f;  // radians
+  float angle_increment = 0.0f;
+  float range_min = 0.0f;  // metres; readings below it are treated as no-return
+  float range_max = 0.0f;  // metres; readings at or above it are no-return
+  std::vector<float> ranges;
+  // Where the sensor sits on the robot (e.g. fr079's laser is 4 cm behind the robot centre).
+  Rigid2d sensor_in_robot;
+
+  int size() const { return static_cast<int>(ranges.size()); }
+  float angle(int i) const { return angle_min + static_cast<float>(i) * angle_increment; }
+  bool IsReturn(int i) const;
+  int CountReturns() const;
+  bool HasReturns() const { return CountReturns() > 0; }
+};
+
+// Builds a scan from raw readings, turning readings outside [range_min, range_max) and non-finite
+// ones into kNoReturn.
+LaserScan MakeLaserScan(double timestamp, float angle_min, float angle_increment, float range_min,
+                        float range_max, const std::vector<float>& raw_ranges,
+                        const Rigid2d& sensor_in_robot = Rigid2d());
+
+// End points of the real returns, in the sensor frame.
+std::vector<Eigen::Vector2f> ToPointsInSensorFrame(const LaserScan& scan);
+// End points of the real returns, in the robot frame (applies `scan.sensor_in_robot`).
+std::vector<Eigen::Vector2f> ToPointsInRobotFrame(const LaserScan& scan);
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_SHARED_CORE_LASER_SCAN_H_

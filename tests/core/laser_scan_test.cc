@@ -1,0 +1,53 @@
+#include "shared/core/laser_scan.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/support/test_support.h"
+
+namespace fleetmap {
+namespace {
+
+TEST(LaserScanTest, NoReturnReadingsStayDistinct) {
+  const LaserScan scan = MakeLaserScan(1.0, -1.0f, 1.0f, 0.1f, 10.0f,
+                                       {1.0f, 10.0f, 0.05f, NAN, 81.9f, 2.0f, -1.0f, INFINITY});
+  ASSERT_EQ(scan.size(), 8);
+  EXPECT_TRUE(scan.IsReturn(0));
+  EXPECT_FALSE(scan.IsReturn(1));  // at max range
+  EXPECT_FALSE(scan.IsReturn(2));  // below min range
+  EXPECT_FALSE(scan.IsReturn(3));  // NaN
+  EXPECT_FALSE(scan.IsReturn(4));  // beyond max range
+  EXPECT_TRUE(scan.IsReturn(5));
+  EXPECT_FALSE(scan.IsReturn(6));  // negative
+  EXPECT_FALSE(scan.IsReturn(7));
+  EXPECT_EQ(scan.CountReturns(), 2);
+  EXPECT_EQ(ToPointsInSensorFrame(scan).size(), 2u);
+}
+
+TEST(LaserScanTest, PointsInSensorAndRobotFrames) {
+  const Rigid2d mount(0.2, 0.0, M_PI);  // laser 20 cm ahead, looking backwards
+  const LaserScan scan = MakeLaserScan(0.0, 0.0f, static_cast<float>(M_PI / 2), 0.0f, 30.0f,
+                                       {1.0f, 2.0f}, mount);
+  const auto sensor = ToPointsInSensorFrame(scan);
+  ASSERT_EQ(sensor.size(), 2u);
+  EXPECT_NEAR(sensor[0].x(), 1.0f, 1e-6f);
+  EXPECT_NEAR(sensor[0].y(), 0.0f, 1e-6f);
+  EXPECT_NEAR(sensor[1].x(), 0.0f, 1e-6f);
+  EXPECT_NEAR(sensor[1].y(), 2.0f, 1e-6f);
+  const auto robot = ToPointsInRobotFrame(scan);
+  EXPECT_NEAR(robot[0].x(), -0.8f, 1e-6f);
+  EXPECT_NEAR(robot[0].y(), 0.0f, 1e-6f);
+  EXPECT_NEAR(robot[1].x(), 0.2f, 1e-6f);
+  EXPECT_NEAR(robot[1].y(), -2.0f, 1e-6f);
+}
+
+TEST(LaserScanTest, SimulatedScanHitsBoxWalls) {
+  const auto world = testing::BoxWorld({-2.0, -1.0}, {3.0, 1.0});
+  const LaserScan scan = testing::SimulateScan(world, Rigid2d(0, 0, 0));
+  ASSERT_EQ(scan.size(), 181);
+  EXPECT_NEAR(scan.ranges[90], 3.0f, 1e-5f);  // straight ahead
+  EXPECT_NEAR(scan.ranges[0], 1.0f, 1e-5f);   // right wall
+  EXPECT_NEAR(scan.ranges[180], 1.0f, 1e-5f);  // left wall
+}
+
+}  // namespace
+}  // namespace fleetmap

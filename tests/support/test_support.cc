@@ -1,0 +1,92 @@
+#include "tests/support/test_support.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <random>
+
+namespace fleetmap::testing {
+
+SegmentWorld BoxWorld(const Eigen::Vector2d& min, const Eigen::Vector2d& max) {
+  SegmentWorld world;
+  AddBox(min, max, &world);
+  return world;
+}
+
+void AddBox(const Eigen::Vector2d& min, const Eigen::Vector2d& max, SegmentWorld* world) {
+  const Eigen::Vector2d a = min, b(max.x(), min.y()), c = max, d(min.x(), max.y());
+  world->push_back({a, b});
+  world->push_back({b, c});
+  world->push_back({c, d});
+  world->push_back({d, a});
+}
+
+namespace {
+
+// Distance along the ray origin + t * direction to the segment, or +inf.
+double RaySegment(const Eigen::Vector2d& origin, const Eigen::Vector2d& direction,
+                  const Segment& s) {
+  const Eigen::Vector2d e = s.b - s.a;
+  const double denom = direction.x() * e.y() - direction.y() * e.x();
+  if (std::abs(denom) < 1e-12) return std::numeric_limits<double>::infinity();
+  const Eigen::Vector2d w = s.a - origin;
+  const double t = (w.x() * e.y() - w.y() * e.x()) / denom;
+  const double u = (w.x() * direction.y() - w.y() * direction.x()) / denom;
+  if (t < 0.0 || u < 0.0 || u > 1.0) return std::numeric_limits<double>::infinity();
+  return t;
+}
+
+}  // namespace
+
+LaserScan SimulateScan(const SegmentWorld& world, const Rigid2d& robot_in_world, int beams,
+                       float angle_min, float angle_increment, float range_max,
+                       const Rigid2d& sensor_in_robot) {
+  const Rigid2d sensor_in_world = robot_in_world * sensor_in_robot;
+  std::vector<float> ranges;
+  ranges.reserve(static_cast<size_t>(beams));
+  for (int i = 0; i < beams; ++i) {
+    const double a = sensor_in_world.rotation() + angle_min + i * static_cast<double>(angle_increment);
+    const Eigen::Vector2d dir(std::cos(a), std::sin(a));
+    double best = std::numeric_limits<double>::infinity();
+    for (const Segment& s : world) best = std::min(best, RaySegment(sensor_in_world.translation(), dir, s));
+    ranges.push_back(static_cast<float>(best));
+  }
+  return MakeLaserScan(0.0, angle_min, angle_increment, 0.0f, range_max, ranges, sensor_in_robot);
+}
+
+std::optional<std::string> DataDir() {
+  const char* env = std::getenv("FLEETMAP_DATA_DIR");
+  const std::string dir = env ? env : "../shared/data";
+  if (std::filesystem::is_directory(dir)) return dir;
+  return std::nullopt;
+}
+
+std::optional<std::string> DataFile(const std::string& relative) {
+  const auto dir = DataDir();
+  if (!dir) return std::nullopt;
+  const std::string path = *dir + "/" + relative;
+  if (std::filesystem::exists(path)) return path;
+  return std::nullopt;
+}
+
+std::string BinaryDir() {
+  const char* env = std::getenv("FLEETMAP_BINARY_DIR");
+  return env ? env : std::filesystem::current_path().string();
+}
+
+std::string SourceDir() {
+  const char* env = std::getenv("FLEETMAP_SOURCE_DIR");
+  return env ? env : std::filesystem::current_path().string();
+}
+
+std::string MakeTempDir(const std::string& prefix) {
+  std::random_device rd;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const auto path = std::filesystem::temp_directory_path() /
+                      (prefix + "-" + std::to_string(rd()) + std::to_string(attempt));
+    if (std::filesystem::create_directory(path)) return path.string();
+  }
+  return std::filesystem::temp_directory_path().string();
+}
+
+}  // namespace fleetmap::testing

@@ -1,0 +1,65 @@
+#ifndef FLEETMAP_TESTS_SUPPORT_TEST_SUPPORT_H_
+#define FLEETMAP_TESTS_SUPPORT_TEST_SUPPORT_H_
+
+// Helpers shared by every test: pose matchers, synthetic worlds and scans, data-set lookup.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <gmock/gmock.h>
+
+#include "shared/core/laser_scan.h"
+#include "shared/core/rigid2d.h"
+
+namespace fleetmap::testing {
+
+// Matches a Rigid2d within a translation (metres) and rotation (radians) tolerance.
+MATCHER_P3(IsNearPose, expected, translation_tolerance, rotation_tolerance,
+           "is within tolerance of " + ::testing::PrintToString(expected)) {
+  const double dt = (arg.translation() - expected.translation()).norm();
+  const double dr = std::abs(NormalizeAngle(arg.rotation() - expected.rotation()));
+  *result_listener << "translation error " << dt << ", rotation error " << dr;
+  return dt <= translation_tolerance && dr <= rotation_tolerance;
+}
+
+// A world made of line segments, for generating exact synthetic scans.
+struct Segment {
+  Eigen::Vector2d a;
+  Eigen::Vector2d b;
+};
+using SegmentWorld = std::vector<Segment>;
+
+// The four walls of an axis-aligned box [min, max].
+SegmentWorld BoxWorld(const Eigen::Vector2d& min, const Eigen::Vector2d& max);
+// Appends the walls of a box to a world.
+void AddBox(const Eigen::Vector2d& min, const Eigen::Vector2d& max, SegmentWorld* world);
+
+// A noise-free scan of `world` from `robot_in_world`: beam i at angle_min + i * increment.
+LaserScan SimulateScan(const SegmentWorld& world, const Rigid2d& robot_in_world, int beams = 181,
+                       float angle_min = static_cast<float>(-M_PI / 2),
+                       float angle_increment = static_cast<float>(M_PI / 180),
+                       float range_max = 8.0f, const Rigid2d& sensor_in_robot = Rigid2d());
+
+// The directory of the public data sets (FLEETMAP_DATA_DIR), when it exists.
+std::optional<std::string> DataDir();
+// Path of a data file below DataDir(), when it exists.
+std::optional<std::string> DataFile(const std::string& relative);
+
+// Build and source trees, from the environment CTest sets (fall back to the current directory).
+std::string BinaryDir();
+std::string SourceDir();
+
+// A fresh empty directory under the system temp dir, removed by the caller if wanted.
+std::string MakeTempDir(const std::string& prefix);
+
+}  // namespace fleetmap::testing
+
+// Skips the current test with a message when a public data file is absent.
+#define FLEETMAP_REQUIRE_DATA(var, relative)                                 \
+  const auto var##_opt = ::fleetmap::testing::DataFile(relative);            \
+  if (!var##_opt) GTEST_SKIP() << "data set not present: " << (relative);    \
+  const std::string var = *var##_opt
+
+#endif  // FLEETMAP_TESTS_SUPPORT_TEST_SUPPORT_H_
