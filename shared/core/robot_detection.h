@@ -1,6 +1,7 @@
 #ifndef FLEETMAP_SHARED_CORE_ROBOT_DETECTION_H_
 #define FLEETMAP_SHARED_CORE_ROBOT_DETECTION_H_
 
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -23,6 +24,13 @@ struct RobotDetection {
   std::optional<double> relative_heading;
   double relative_heading_variance = 0.0;
   double confidence = 1.0;  // in [0, 1]
+  // How the laser measured it (diagnostics of the detector; not sent to the server).
+  int laser_returns = 0;  // returns used by the circle fit
+  double fit_rms = 0.0;   // metres, range residual RMS of the fit
+
+  double range() const { return position_in_observer.norm(); }
+  // Radians, + to the left, in the observer's robot frame.
+  double bearing() const { return std::atan2(position_in_observer.y(), position_in_observer.x()); }
 };
 
 }  // namespace fleetmap

@@ -27,6 +27,8 @@ class CarmenWriter {
   std::ofstream out_;
   std::string hostname_;
   double first_timestamp_ = -1.0;
+  // The no-return value announced by the last PARAM robot_front_laser_max (0: none yet).
+  float written_max_range_ = 0.0f;
 };
 
 }  // namespace fleetmap

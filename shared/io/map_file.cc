@@ -192,8 +192,10 @@ bool WritePng(const std::string& path, int width, int height, int channels,
   std::vector<png_bytep> rows(static_cast<size_t>(height));
   if (setjmp(png_jmpbuf(closer.png))) return Fail(error, path + ": PNG write failed");
   png_init_io(closer.png, file.get());
-  // Fast compression: maps are written often (every map version, every demo step).
-  png_set_compression_level(closer.png, 3);
+  // Fast compression: maps and camera frames are written often. Level 1 with the SUB filter
+  // alone is about 2x faster than level 3 with adaptive filtering, at a similar size.
+  png_set_compression_level(closer.png, 1);
+  png_set_filter(closer.png, 0, PNG_FILTER_SUB);
   png_set_IHDR(closer.png, closer.info, static_cast<png_uint_32>(width),
                static_cast<png_uint_32>(height), 8,
                channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,

@@ -56,7 +56,7 @@ LaserScan SimulateScan(const SegmentWorld& world, const Rigid2d& robot_in_world,
 
 std::optional<std::string> DataDir() {
   const char* env = std::getenv("FLEETMAP_DATA_DIR");
-  const std::string dir = env ? env : "../shared/data";
+  const std::string dir = env ? env : FLEETMAP_DEFAULT_DATA_DIR;
   if (std::filesystem::is_directory(dir)) return dir;
   return std::nullopt;
 }
@@ -71,12 +71,12 @@ std::optional<std::string> DataFile(const std::string& relative) {
 
 std::string BinaryDir() {
   const char* env = std::getenv("FLEETMAP_BINARY_DIR");
-  return env ? env : std::filesystem::current_path().string();
+  return env ? env : FLEETMAP_DEFAULT_BINARY_DIR;
 }
 
 std::string SourceDir() {
   const char* env = std::getenv("FLEETMAP_SOURCE_DIR");
-  return env ? env : std::filesystem::current_path().string();
+  return env ? env : FLEETMAP_DEFAULT_SOURCE_DIR;
 }
 
 std::string MakeTempDir(const std::string& prefix) {

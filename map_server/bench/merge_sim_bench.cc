@@ -1,0 +1,269 @@
+// fleetmap-merge-sim-bench: simulator scenarios (unknown start poses) through local SLAM and
+// the MergeEngine in one process (no gRPC): relative transform error per robot pair, merged map
+// vs the true world, false merges and the time to fold data in; with and without detections.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <random>
+
+#include <CLI/CLI.hpp>
+
+#include "map_server/merge/merge_engine.h"
+#include "robot_agent/sim/scenario.h"
+#include "robot_agent/sim/simulation.h"
+#include "robot_agent/slam/backend_factory.h"
+
+namespace fleetmap {
+namespace {
+
+struct BenchOptions {
+  bool detections = true;
+  double feed_period = 5.0;        // seconds of sim time between engine updates
+  double detection_period = 1.0;   // one detection per ordered pair per this many seconds
+  double detection_sigma = 0.05;   // metres, noise of the synthetic detections
+  double false_translation = 0.5;  // a placed pair further off than this is a false merge
+  double false_rotation = 0.087;
+  bool verbose = false;
+};
+
+struct RunResult {
+  std::vector<std::string> lines;
+  int pairs = 0;
+  int placed_pairs = 0;
+  int false_merges = 0;
+  double max_translation = 0.0;
+  double max_rotation = 0.0;
+  double map_accuracy = 0.0;
+  double median_update_ms = 0.0;
+  double max_update_ms = 0.0;
+  double median_fold_ms = 0.0;  // per submap folded in
+  int submaps = 0;
+  double sim_seconds = 0.0;
+};
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+// Occupied cells of the merged map (global = the reference robot's local frame) within one
+// cell of a true wall, once placed in the world with the reference robot's true start.
+double MapAccuracy(const OccupancyGrid& grid, const Rigid2d& global_in_world,
+                   const sim::World& world) {
+  int64_t occupied = 0, near_wall = 0;
+  const double r = world.resolution();
+  for (int y = 0; y < grid.height(); ++y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      if (grid.LogOdds(CellIndex(x, y)) <= 0.0f) continue;
+      ++occupied;
+      const Eigen::Vector2d p = global_in_world * grid.CellCenter(CellIndex(x, y));
+      bool hit = false;
+      for (int dy = -1; dy <= 1 && !hit; ++dy) {
+        for (int dx = -1; dx <= 1 && !hit; ++dx) {
+          hit = world.IsBlockedAt(p + Eigen::Vector2d(dx * r, dy * r));
+        }
+      }
+      near_wall += hit;
+    }
+  }
+  return occupied > 0 ? static_cast<double>(near_wall) / occupied : 0.0;
+}
+
+bool Run(const std::string& scenario, const BenchOptions& options, RunResult* result,
+         std::string* error) {
+  std::unique_ptr<sim::Simulation> sim = sim::Simulation::FromFile(scenario, error, false);
+  if (!sim) return false;
+  const auto& infos = sim->robots();
+  const size_t n = infos.size();
+  std::vector<std::unique_ptr<LocalSlam>> slams;
+  for (const auto& info : infos) {
+    BackendChoice choice;
+    choice.robot_id = info.name;
+    slams.push_back(MakeLocalSlam(choice, error));
+    if (!slams.back()) return false;
+  }
+  std::vector<std::optional<Rigid2d>> local_in_world(n);  // truth: the pose at the first scan
+  std::map<std::pair<int, int>, double> last_detection;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, options.detection_sigma);
+  MergeEngine engine;
+  std::vector<double> update_ms, fold_ms;
+  double next_feed = options.feed_period;
+  std::vector<RobotDetection> pending_detections;
+  const auto feed = [&](bool last) {
+    int new_submaps = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (last) slams[i]->Finish();
+      for (const Submap& submap : slams[i]->TakeSubmapUpdates()) {
+        new_submaps += submap.finished;
+        engine.AddOrUpdateSubmap(submap);
+      }
+      engine.SetTrajectory(infos[i].name, slams[i]->trajectory());
+    }
+    for (const RobotDetection& d : pending_detections) engine.AddDetection(d);
+    pending_detections.clear();
+    result->submaps += new_submaps;
+    const auto start = std::chrono::steady_clock::now();
+    const MergeUpdate update = engine.Update();
+    if (options.verbose) {
+      for (const AlignmentEvent& e : update.events) {
+        std::printf("    t=%.0f %s %s/%s score %.3f amb %.3f overlap %.3f: %s\n", result->sim_seconds,
+                    AlignmentEventTypeName(e.type), e.robot_a.c_str(), e.robot_b.c_str(), e.score,
+                    e.ambiguity, e.overlap, e.reason.c_str());
+      }
+    }
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    update_ms.push_back(ms);
+    if (new_submaps > 0) fold_ms.push_back(ms / new_submaps);
+    // Postponed searches, as the server's worker runs them while idle.
+    for (int i = 0; i < 1000 && engine.HasPendingWork(); ++i) engine.Update();
+  };
+  while (!sim->Done()) {
+    sim::StepResult step = sim->Step();
+    for (sim::SensorPacket& packet : step.packets) {
+      LocalSlam& slam = *slams[static_cast<size_t>(packet.robot_index)];
+      std::string why;
+      if (packet.odometry) {
+        slam.AddOdometry({packet.odometry->timestamp, packet.odometry->robot_pose}, &why);
+      }
+      if (packet.laser) {
+        const size_t i = static_cast<size_t>(packet.robot_index);
+        if (!local_in_world[i]) local_in_world[i] = packet.ground_truth;
+        slam.AddScan(packet.laser->scan, &why);
+      }
+    }
+    if (options.detections) {
+      for (const sim::VisibilityRecord& v : step.visibility) {
+        if (!v.visible || !local_in_world[v.observer] || !local_in_world[v.observed]) continue;
+        double& last = last_detection[{v.observer, v.observed}];
+        if (last > 0.0 && step.timestamp - last < options.detection_period) continue;
+        last = step.timestamp;
+        RobotDetection d;
+        d.observer_id = infos[v.observer].name;
+        d.observed_id = infos[v.observed].name;
+        d.timestamp = step.timestamp;
+        d.position_in_observer =
+            v.relative.translation() + Eigen::Vector2d(noise(rng), noise(rng));
+        d.covariance = Eigen::Matrix2d::Identity() * options.detection_sigma *
+                       options.detection_sigma;
+        pending_detections.push_back(d);
+      }
+    }
+    if (step.timestamp >= next_feed) {
+      next_feed += options.feed_period;
+      feed(false);
+    }
+    result->sim_seconds = step.timestamp;
+  }
+  feed(true);
+  // Local SLAM drift: the final pose against the truth, through the start.
+  for (size_t i = 0; i < n; ++i) {
+    const Trajectory& t = slams[i]->trajectory();
+    if (t.empty() || !local_in_world[i]) continue;
+    const Rigid2d end = *local_in_world[i] * t.back().pose;
+    const Rigid2d truth = sim->TruePoses()[i];
+    char line[200];
+    std::snprintf(line, sizeof(line), "  %s local SLAM end-pose error %.3f m, %.2f deg (first pose %.3f %.3f %.3f)",
+                  infos[i].name.c_str(), (end.translation() - truth.translation()).norm(),
+                  std::abs(NormalizeAngle(end.rotation() - truth.rotation())) * 180.0 / M_PI,
+                  t.front().pose.translation().x(), t.front().pose.translation().y(),
+                  t.front().pose.rotation());
+    result->lines.push_back(line);
+  }
+  // Relative transforms between every pair of robots against the truth.
+  for (size_t a = 0; a < n; ++a) {
+    for (size_t b = a + 1; b < n; ++b) {
+      ++result->pairs;
+      const auto ga = engine.RobotToGlobal(infos[a].name);
+      const auto gb = engine.RobotToGlobal(infos[b].name);
+      char line[256];
+      if (!ga || !gb || !local_in_world[a] || !local_in_world[b]) {
+        std::snprintf(line, sizeof(line), "  %s-%s: not merged", infos[a].name.c_str(),
+                      infos[b].name.c_str());
+        result->lines.push_back(line);
+        continue;
+      }
+      ++result->placed_pairs;
+      const Rigid2d estimated = ga->inverse() * *gb;
+      const Rigid2d truth = local_in_world[a]->inverse() * *local_in_world[b];
+      const Rigid2d diff = truth.inverse() * estimated;
+      const double t = diff.translation().norm();
+      const double r = std::abs(NormalizeAngle(diff.rotation()));
+      if (t > options.false_translation || r > options.false_rotation) ++result->false_merges;
+      result->max_translation = std::max(result->max_translation, t);
+      result->max_rotation = std::max(result->max_rotation, r);
+      std::snprintf(line, sizeof(line), "  %s-%s: %.3f m, %.3f deg", infos[a].name.c_str(),
+                    infos[b].name.c_str(), t, r * 180.0 / M_PI);
+      result->lines.push_back(line);
+    }
+  }
+  const std::string& reference = engine.reference_robot();
+  for (size_t i = 0; i < n; ++i) {
+    if (infos[i].name != reference || !local_in_world[i]) continue;
+    const auto grid = engine.RenderGlobalMap(std::nullopt, 0.05, error);
+    if (grid) result->map_accuracy = MapAccuracy(*grid, *local_in_world[i], sim->world());
+  }
+  result->median_update_ms = Median(update_ms);
+  result->max_update_ms = update_ms.empty() ? 0.0 : *std::max_element(update_ms.begin(), update_ms.end());
+  result->median_fold_ms = Median(fold_ms);
+  return true;
+}
+
+}  // namespace
+}  // namespace fleetmap
+
+int main(int argc, char** argv) {
+  std::vector<std::string> scenarios = {"department_2robots", "department_3robots",
+                                        "department_4robots", "building_2robots"};
+  fleetmap::BenchOptions options;
+  bool both = true;
+  bool without_only = false;
+  CLI::App app{"merge benchmark: simulator scenarios -> local SLAM -> MergeEngine (in process)"};
+  app.add_option("scenarios", scenarios, "scenario files or shipped scenario names")
+      ->capture_default_str();
+  app.add_flag("--no-detections", without_only, "only run without detections");
+  app.add_flag("--verbose", options.verbose, "print every merge event");
+  app.add_option("--feed-period", options.feed_period, "sim seconds between engine updates")
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  if (without_only) both = false;
+  int false_merges = 0;
+  for (const std::string& name : scenarios) {
+    std::string path = name;
+    if (path.find('/') == std::string::npos) {
+      path = fleetmap::sim::ShippedScenariosDir() + "/" + name + ".yaml";
+    }
+    for (int with = both ? 1 : 0; with >= 0; --with) {
+      options.detections = with == 1;
+      std::cout << name << (options.detections ? " (with detections)" : " (no detections)")
+                << ": running..." << std::endl;
+      fleetmap::RunResult result;
+      std::string error;
+      const auto start = std::chrono::steady_clock::now();
+      if (!fleetmap::Run(path, options, &result, &error)) {
+        std::cerr << "merge_sim_bench: " << name << ": " << error << "\n";
+        return 1;
+      }
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      for (const auto& line : result.lines) std::cout << line << "\n";
+      std::printf(
+          "  merged pairs %d/%d, false merges %d, max error %.3f m / %.3f deg, map within 1 "
+          "cell of a wall %.2f %%, submaps %d, Update() median %.1f ms (max %.1f), per new "
+          "submap median %.1f ms, sim %.0f s, wall %.0f s\n",
+          result.placed_pairs, result.pairs, result.false_merges, result.max_translation,
+          result.max_rotation * 180.0 / M_PI, 100.0 * result.map_accuracy, result.submaps,
+          result.median_update_ms, result.max_update_ms, result.median_fold_ms,
+          result.sim_seconds, wall);
+      std::fflush(stdout);
+      false_merges += result.false_merges;
+    }
+  }
+  std::cout << "total false merges: " << false_merges << std::endl;
+  return 0;
+}

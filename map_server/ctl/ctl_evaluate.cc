@@ -1,0 +1,174 @@
+#include "map_server/ctl/ctl_evaluate.h"
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "shared/core/likelihood_field.h"
+#include "shared/io/map_file.h"
+
+namespace fleetmap {
+
+bool ReadStartPoses(const std::string& path, std::map<std::string, Rigid2d>* starts,
+                    std::string* error) {
+  try {
+    const YAML::Node root = YAML::LoadFile(path);
+    const YAML::Node robots = root["robots"];
+    if (!robots || !robots.IsSequence()) {
+      *error = path + ": expected a list 'robots'";
+      return false;
+    }
+    for (const YAML::Node& robot : robots) {
+      if (!robot["name"] || !robot["start"]) {
+        *error = path + ": every robot needs 'name' and 'start'";
+        return false;
+      }
+      const YAML::Node s = robot["start"];
+      const Rigid2d pose(s["x"].as<double>(), s["y"].as<double>(), s["theta"].as<double>());
+      if (!pose.IsFinite()) {
+        *error = path + ": non-finite start pose for " + robot["name"].as<std::string>();
+        return false;
+      }
+      (*starts)[robot["name"].as<std::string>()] = pose;
+    }
+  } catch (const YAML::Exception& e) {
+    *error = path + ": " + e.what();
+    return false;
+  }
+  if (starts->empty()) {
+    *error = path + ": no robots listed";
+    return false;
+  }
+  return true;
+}
+
+MergeEvaluation EvaluatePlacements(const std::map<std::string, Rigid2d>& placements,
+                                   const std::map<std::string, Rigid2d>& truth) {
+  MergeEvaluation result;
+  std::optional<std::string> reference;
+  for (const auto& [name, start] : truth) {
+    if (placements.count(name) == 0) {
+      result.unplaced.push_back(name);
+    } else if (!reference) {
+      reference = name;
+    }
+  }
+  if (!reference) return result;
+  const Rigid2d& ref_global = placements.at(*reference);
+  const Rigid2d& ref_world = truth.at(*reference);
+  for (const auto& [name, start] : truth) {
+    if (name == *reference || placements.count(name) == 0) continue;
+    // The robot's local frame expressed in the reference robot's local frame, both ways.
+    const Rigid2d estimated = ref_global.inverse() * placements.at(name);
+    const Rigid2d expected = ref_world.inverse() * start;
+    result.pairs.push_back(
+        {*reference, name, (estimated.translation() - expected.translation()).norm(),
+         std::abs(NormalizeAngle(estimated.rotation() - expected.rotation()))});
+  }
+  return result;
+}
+
+double MapAccuracy(const OccupancyGrid& global_map, const OccupancyGrid& world,
+                   const Rigid2d& world_from_global, double tolerance, long* occupied_cells) {
+  LikelihoodFieldOptions options;
+  options.max_distance = std::max(1.0, 4 * tolerance);
+  const LikelihoodField walls(world, options);
+  long occupied = 0, near = 0;
+  for (int y = 0; y < global_map.height(); ++y) {
+    for (int x = 0; x < global_map.width(); ++x) {
+      const CellIndex cell(x, y);
+      if (global_map.Probability(cell) <= 0.5f) continue;
+      ++occupied;
+      if (walls.Distance(world_from_global * global_map.CellCenter(cell)) <= tolerance) ++near;
+    }
+  }
+  *occupied_cells = occupied;
+  return occupied > 0 ? static_cast<double>(near) / occupied : 0.0;
+}
+
+int RunEvaluate(const CtlContext& context, const EvaluateOptions& options) {
+  std::map<std::string, Rigid2d> truth;
+  std::string error;
+  if (!ReadStartPoses(options.ground_truth, &truth, &error)) {
+    std::cerr << "fleetmapctl: " << error << "\n";
+    return 1;
+  }
+  v1::GetRobotsResponse response;
+  grpc::ClientContext rpc;
+  rpc.set_deadline(std::chrono::system_clock::now() +
+                   std::chrono::milliseconds(static_cast<int64_t>(context.timeout_seconds * 1e3)));
+  const grpc::Status status = context.stub->GetRobots(&rpc, v1::GetRobotsRequest(), &response);
+  if (!status.ok()) {
+    std::cerr << "fleetmapctl: evaluate failed: " << status.error_message() << "\n";
+    return 1;
+  }
+  std::map<std::string, Rigid2d> placements;
+  for (const v1::RobotInfo& r : response.robots()) {
+    if (!r.placement().placed()) continue;
+    const v1::Pose2d& p = r.placement().local_in_global();
+    placements[r.robot_id()] = Rigid2d(p.x(), p.y(), p.theta());
+  }
+  MergeEvaluation evaluation = EvaluatePlacements(placements, truth);
+
+  if (!options.map.empty() && !options.world.empty() && !evaluation.pairs.empty()) {
+    OccupancyGrid global_map, world;
+    if (!ReadMap(options.map, &global_map, &error) || !ReadMap(options.world, &world, &error)) {
+      std::cerr << "fleetmapctl: " << error << "\n";
+      return 1;
+    }
+    const std::string& reference = evaluation.pairs.front().reference;
+    const Rigid2d world_from_global = truth.at(reference) * placements.at(reference).inverse();
+    evaluation.map_accuracy =
+        MapAccuracy(global_map, world, world_from_global,
+                    options.tolerance_cells * global_map.resolution(), &evaluation.occupied_cells);
+  }
+
+  double worst_t = 0.0, worst_r = 0.0;
+  for (const PairError& e : evaluation.pairs) {
+    worst_t = std::max(worst_t, e.translation_error);
+    worst_r = std::max(worst_r, e.rotation_error);
+  }
+  std::ostream& out = *context.out;
+  out << std::fixed;
+  if (context.json) {
+    out << "{\n  \"pairs\": [";
+    for (size_t i = 0; i < evaluation.pairs.size(); ++i) {
+      const PairError& e = evaluation.pairs[i];
+      out << (i ? ",\n" : "\n") << "    {\"reference\": \"" << e.reference << "\", \"robot\": \""
+          << e.robot << "\", \"translation_error_m\": " << std::setprecision(4)
+          << e.translation_error << ", \"rotation_error_deg\": " << e.rotation_error * 180 / M_PI
+          << "}";
+    }
+    out << "\n  ],\n  \"unplaced\": [";
+    for (size_t i = 0; i < evaluation.unplaced.size(); ++i) {
+      out << (i ? ", " : "") << "\"" << evaluation.unplaced[i] << "\"";
+    }
+    out << "],\n  \"worst_translation_error_m\": " << worst_t
+        << ",\n  \"worst_rotation_error_deg\": " << worst_r * 180 / M_PI;
+    if (evaluation.map_accuracy) {
+      out << ",\n  \"map_accuracy\": " << *evaluation.map_accuracy
+          << ",\n  \"occupied_cells\": " << evaluation.occupied_cells;
+    }
+    out << "\n}\n";
+  } else {
+    out << "merge against ground truth (" << truth.size() << " robots, "
+        << placements.size() << " placed by the server)\n";
+    for (const PairError& e : evaluation.pairs) {
+      out << "  " << e.robot << " relative to " << e.reference << ": " << std::setprecision(3)
+          << e.translation_error << " m, " << std::setprecision(2)
+          << e.rotation_error * 180 / M_PI << " deg\n";
+    }
+    for (const std::string& name : evaluation.unplaced) out << "  " << name << ": NOT PLACED\n";
+    if (evaluation.map_accuracy) {
+      out << "  map: " << std::setprecision(1) << *evaluation.map_accuracy * 100.0
+          << " % of " << evaluation.occupied_cells << " occupied cells within "
+          << options.tolerance_cells << " cell of a true wall\n";
+    }
+  }
+  return evaluation.unplaced.empty() ? 0 : 2;
+}
+
+}  // namespace fleetmap

@@ -1,0 +1,58 @@
+#ifndef FLEETMAP_MAP_SERVER_MERGE_INTERNAL_MERGE_ENGINE_STATE_H_
+#define FLEETMAP_MAP_SERVER_MERGE_INTERNAL_MERGE_ENGINE_STATE_H_
+
+// The merge engine's private bookkeeping, shared by its two implementation files.
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+
+#include "map_server/merge/log_odds_canvas.h"
+#include "map_server/merge/match_target.h"
+#include "map_server/merge/merge_engine.h"
+
+namespace fleetmap {
+
+struct MergeEngine::RobotState {
+  explicit RobotState(double resolution) : canvas(resolution) {}
+  std::map<int64_t, Submap> submaps;
+  Trajectory trajectory;
+  std::optional<NodeId> fixed_node;           // set while this robot roots its component
+  std::map<int64_t, size_t> odometry_edge;    // by the later submap of the pair
+  // The robot's submaps rendered at their graph poses (the frame of its component).
+  LogOddsCanvas canvas;
+  struct Rendered {
+    Rigid2d pose;
+    int64_t revision = 0;
+  };
+  std::map<int64_t, Rendered> rendered;
+  int64_t canvas_version = 0;
+  std::map<int64_t, std::pair<int64_t, MatchSource>> sources;  // id -> (revision, points)
+  std::set<int64_t> cross_queue;                      // finished, awaiting global search
+  std::map<int64_t, std::set<std::string>> cross_tried;  // id -> component roots tried
+  std::set<int64_t> local_queue;                      // awaiting a local constraint search
+  std::set<int64_t> loop_queue;                       // awaiting a loop closure search
+};
+
+// A plausible alignment between two components, waiting for a second piece of evidence.
+struct MergeEngine::Hypothesis {
+  std::string robot_a;
+  std::string robot_b;
+  Rigid2d local_b_in_local_a;
+  std::optional<size_t> detection;
+  std::set<int64_t> submaps_b;
+  RelativeEdge edge;  // the match as a graph edge, once the components are joined
+  std::optional<DetectionEdge> detection_edge;
+  AlignmentEvent event;
+};
+
+struct MergeEngine::CachedTarget {
+  std::string stamp;  // member robots and their canvas versions when built
+  std::unique_ptr<MatchTarget> target;
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_MAP_SERVER_MERGE_INTERNAL_MERGE_ENGINE_STATE_H_

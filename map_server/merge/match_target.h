@@ -1,0 +1,93 @@
+#ifndef FLEETMAP_MAP_SERVER_MERGE_MATCH_TARGET_H_
+#define FLEETMAP_MAP_SERVER_MERGE_MATCH_TARGET_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "map_server/merge/branch_and_bound_matcher.h"
+#include "map_server/merge/score_grid.h"
+#include "map_server/merge/pose_refiner.h"
+#include "shared/core/likelihood_field.h"
+#include "shared/core/occupancy_grid.h"
+
+namespace fleetmap {
+
+struct MatchTargetOptions {
+  ScoreGridOptions grid;
+  BranchAndBoundOptions search;
+  PoseRefinerOptions refine;
+  double fine_field_max_distance = 0.3;  // metres, distance field used for refinement
+  double source_voxel = 0.1;             // coarse source points: one per this square
+  size_t max_source_points = 600;
+  size_t max_fine_points = 2000;
+};
+
+// Acceptance gates of one match; strict by default so that a wrong merge is never accepted.
+struct MatchGates {
+  double min_score = 0.55;          // mean per-point correlative score at the best pose
+  double max_ambiguity = 0.85;      // best distinct second peak / best
+  ExclusionZone distinct{Rigid2d(), 0.5, 0.26};  // what counts as a distinct peak
+  double min_overlap = 0.5;         // source wall points landing on observed target cells
+  double min_inlier_fraction = 0.5;  // after refinement, within refine.inlier_distance
+  int min_points = 60;              // source wall points after filtering
+};
+
+// A source map prepared for matching: wall points in the source frame, thinned.
+struct MatchSource {
+  std::vector<Eigen::Vector2d> coarse;
+  std::vector<Eigen::Vector2d> fine;
+};
+MatchSource MakeMatchSource(const OccupancyGrid& grid, const Rigid2d& grid_to_source,
+                            const MatchTargetOptions& options);
+
+struct MatchResult {
+  bool found = false;     // some pose scored above the gate's minimum
+  bool accepted = false;  // every gate passed
+  std::string reason;     // why not accepted, or a summary when accepted
+  Rigid2d pose;           // source frame in target frame (refined)
+  double score = 0.0;
+  double second_score = 0.0;  // best distinct peak scoring >= max_ambiguity * score, else 0
+  double ambiguity = 0.0;     // second_score / score
+  double overlap = 0.0;
+  double inlier_fraction = 0.0;
+  double residual = 0.0;  // mean distance of inlier points to target walls (metres)
+};
+
+// A target map (in its own frame) ready for global and local searches: the coarse scoring
+// grid with its branch-and-bound pyramid, and a fine distance field for refinement.
+class MatchTarget {
+ public:
+  MatchTarget(const OccupancyGrid& target, const MatchTargetOptions& options);
+  MatchTarget(const MatchTarget&) = delete;
+  MatchTarget& operator=(const MatchTarget&) = delete;
+
+  bool empty() const { return grid_.empty() || grid_.num_occupied() == 0; }
+  // Bounds of the target grid (target frame).
+  Eigen::Vector2d min_corner() const { return grid_.origin(); }
+  Eigen::Vector2d max_corner() const {
+    return grid_.origin() + grid_.resolution() * Eigen::Vector2d(grid_.width(), grid_.height());
+  }
+
+  // Search, check ambiguity, refine, apply the gates.
+  MatchResult Match(const MatchSource& source, const SearchWindow& window,
+                    const MatchGates& gates) const;
+
+  // Scores a given pose without searching (same figures as Match, no ambiguity).
+  MatchResult Evaluate(const MatchSource& source, const Rigid2d& pose, const MatchGates& gates) const;
+
+ private:
+  MatchResult EvaluateWithScore(const MatchSource& source, const Rigid2d& pose,
+                                const MatchGates& gates, double score) const;
+
+  MatchTargetOptions options_;
+  ScoreGrid grid_;
+  std::unique_ptr<BranchAndBoundMatcher> matcher_;
+  std::unique_ptr<LikelihoodField> fine_field_;
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_MAP_SERVER_MERGE_MATCH_TARGET_H_

@@ -1,0 +1,183 @@
+#ifndef FLEETMAP_MAP_SERVER_MERGE_MERGE_ENGINE_H_
+#define FLEETMAP_MAP_SERVER_MERGE_MERGE_ENGINE_H_
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "map_server/merge/log_odds_canvas.h"
+#include "map_server/merge/match_target.h"
+#include "map_server/merge/merge_types.h"
+#include "map_server/merge/pose_graph.h"
+#include "shared/core/occupancy_grid.h"
+#include "shared/core/robot_detection.h"
+#include "shared/core/submap.h"
+#include "shared/core/trajectory.h"
+
+namespace fleetmap {
+
+struct MergeEngineOptions {
+  MatchTargetOptions match;
+  // Detection + heading search: the window is small, so the score gate can be milder.
+  MatchGates detection_gates{0.5, 0.85, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.4, 0.5, 60};
+  // Global search without any detection: strict, since nothing else constrains the answer.
+  MatchGates cross_gates{0.6, 0.8, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.5, 0.6, 100};
+  // Checking a predicted pose (second evidence, constraints between joined robots).
+  MatchGates verify_gates{0.5, 0.85, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.4, 0.5, 60};
+
+  // Detection search window: +- this many standard deviations, clamped (metres).
+  double detection_window_sigmas = 3.0;
+  double detection_window_min = 0.15;
+  double detection_window_max = 0.6;
+  double heading_window_min = 0.1;  // radians, with a measured relative heading
+  double source_time_window = 10.0;  // seconds: the seen robot's submaps used around a detection
+  double trajectory_max_gap = 2.0;   // seconds, for interpolating poses
+  // Detections waiting for poses beyond this many are dropped, oldest first (and reported).
+  size_t max_pending_detections = 10000;
+
+  // Two alignments agree when they place the other map within these.
+  double agreement_translation = 0.3;
+  double agreement_rotation = 0.05;
+  // A detection between joined robots is consistent when within this Mahalanobis distance,
+  // with this floor added to the detection's standard deviation (our poses are not exact).
+  double detection_gate = 4.0;
+  double detection_sigma_floor = 0.1;
+
+  // Work bounds per Update(): global searches are the expensive part.
+  int max_global_searches_per_update = 4;
+  int max_local_searches_per_update = 8;
+  bool local_constraints = true;  // match new submaps against other joined robots' maps
+  // Loop closures within one robot's map: a new submap against the robot's own older submaps
+  // (at least this many ids back) around its current pose.
+  bool loop_closures = true;
+  int loop_min_id_gap = 3;
+  int loop_max_submaps = 6;  // the nearest older submaps form the target
+  int max_loop_searches_per_update = 2;
+  Eigen::Vector2d local_window{0.4, 0.4};
+  double local_angular_window = 0.1;
+
+  // Graph edges: local SLAM between consecutive submaps, and matches/detections across robots.
+  double odometry_translation_sigma = 0.01;
+  double odometry_rotation_sigma = 0.001;
+  double match_translation_sigma = 0.02;
+  double match_rotation_sigma = 0.002;
+  double robust_scale = 2.0;  // Cauchy scale, in sigmas, for inter-robot edges
+  PoseGraphOptions graph;
+
+  // The incrementally kept global map.
+  double render_resolution = 0.05;
+  OccupancyGridOptions render_grid;
+  double rerender_threshold = 0.25;   // cells: a submap that moved less keeps its rendering
+  int64_t max_render_cells = 64 << 20;  // refuse renders larger than this
+};
+
+// Places every robot's submaps in one global frame and keeps the merged map: alignment from
+// detections (heading resolved by correlative search), alignment from cross-robot submap
+// matching (strict gates), a robust pose graph (Ceres), incremental rendering and quality
+// figures. Pure and single-threaded: the server's merge worker owns one and feeds it.
+class MergeEngine {
+ public:
+  explicit MergeEngine(const MergeEngineOptions& options = MergeEngineOptions());
+  ~MergeEngine();
+  MergeEngine(const MergeEngine&) = delete;
+  MergeEngine& operator=(const MergeEngine&) = delete;
+
+  // Input. Each returns false with a message for invalid data (nothing is changed then).
+  bool AddOrUpdateSubmap(const Submap& submap, std::string* error = nullptr);
+  bool SetTrajectory(const std::string& robot, const Trajectory& trajectory,
+                     std::string* error = nullptr);
+  bool AddDetection(const RobotDetection& detection, std::string* error = nullptr);
+  // A robot whose start is known (e.g. given at registration): its local frame sits at
+  // `local_in_global`, held fixed. Robots with known placements define the global frame; call
+  // before the robot's first submap is folded in, and before any robot of unknown start has
+  // been folded in (false otherwise).
+  bool SetKnownPlacement(const std::string& robot, const Rigid2d& local_in_global,
+                         std::string* error = nullptr);
+
+  // Folds everything received since the last call into the graph and the map.
+  MergeUpdate Update();
+  // True while searches are waiting that the per-Update() work bounds postponed: call Update()
+  // again (when idle) to finish them.
+  bool HasPendingWork() const;
+
+  // The robot's local map frame in the global frame; nothing while the robot is unplaced.
+  // The first robot to send a submap defines the global frame.
+  std::optional<Rigid2d> RobotToGlobal(const std::string& robot) const;
+  // Global poses of every placed submap.
+  std::map<NodeId, Rigid2d> SubmapPoses() const;
+  std::vector<std::string> PlacedRobots() const;
+  const std::string& reference_robot() const { return reference_robot_; }
+
+  // The fused map of the placed robots inside `box` (all when absent) at `resolution`.
+  std::optional<OccupancyGrid> RenderGlobalMap(const std::optional<Box2d>& box, double resolution,
+                                               std::string* error = nullptr) const;
+  // Residuals and map consistency over the whole placed map (or a region).
+  MergeQuality Quality(const std::optional<Box2d>& region = std::nullopt) const;
+
+  const PoseGraph& graph() const { return graph_; }
+  const std::vector<RobotDetection>& detections() const { return detections_; }
+
+ private:
+  struct RobotState;
+  struct Hypothesis;
+  struct CachedTarget;
+  struct TimedPose {
+    int64_t host_submap;
+    Rigid2d robot_in_node;
+  };
+
+  // merge_engine.cc
+  RobotState& Robot(const std::string& id);
+  void SyncNodes(MergeUpdate* update);
+  bool Solve(MergeUpdate* update);
+  void RefreshCanvases(MergeUpdate* update);
+  bool IsPlaced(const std::string& robot) const;
+  std::string Root(const std::string& robot) const;
+  std::vector<std::string> Members(const std::string& root) const;
+  void JoinComponents(const std::string& root_a, const std::string& root_b, const Rigid2d& b_in_a);
+  std::optional<Rigid2d> LocalToFrame(const std::string& robot) const;
+
+  // merge_engine_alignment.cc
+  void ProcessDetections(MergeUpdate* update);
+  void ProcessDetection(size_t index, MergeUpdate* update, bool* keep_pending);
+  void ProcessCrossMatches(MergeUpdate* update);
+  void ProcessLocalConstraints(MergeUpdate* update);
+  // merge_engine_loops.cc
+  void ProcessLoopClosures(MergeUpdate* update);
+  void Consider(Hypothesis hypothesis, MergeUpdate* update);
+  bool Verify(const Hypothesis& hypothesis, std::vector<RelativeEdge>* edges);
+  void Accept(const Hypothesis& hypothesis, const std::vector<RelativeEdge>& extra,
+              MergeUpdate* update);
+  std::optional<TimedPose> PoseAtTime(const std::string& robot, double time) const;
+  // The whole map of a component (cached), or a freshly built crop of it around `box`.
+  const MatchTarget& Target(const std::string& root);
+  std::unique_ptr<MatchTarget> CroppedTarget(const std::string& root, const std::string& excluded,
+                                             const Box2d& box) const;
+  Rigid2d FrameTransform(const Hypothesis& hypothesis) const;
+  bool Agree(const Hypothesis& a, const Hypothesis& b) const;
+  const MatchSource& SubmapSource(const std::string& robot, int64_t submap_id);
+  std::optional<NodeId> NearestNode(const std::string& root, const std::string& excluded,
+                                    const Eigen::Vector2d& point_in_frame) const;
+  RelativeEdge MatchEdge(const NodeId& from, const NodeId& to, EdgeKind kind) const;
+
+  const MergeEngineOptions options_;
+  std::map<std::string, std::unique_ptr<RobotState>> robots_;
+  std::string reference_robot_;
+  std::map<std::string, std::string> root_;  // robot -> root robot of its component
+  std::map<std::string, Rigid2d> known_placements_;
+  std::string known_root_;  // the first robot with a known placement
+  PoseGraph graph_;
+  bool graph_dirty_ = false;
+  std::vector<RobotDetection> detections_;
+  std::vector<size_t> pending_detections_;
+  std::set<size_t> pending_reported_;
+  std::vector<Hypothesis> hypotheses_;
+  std::map<std::string, CachedTarget> targets_;
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_MAP_SERVER_MERGE_MERGE_ENGINE_H_

@@ -1,0 +1,221 @@
+// MergeEngine: hypotheses waiting for a second piece of evidence, accepting alignments, and
+// the searches that produce evidence without detections.
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "map_server/merge/grid_points.h"
+#include "map_server/merge/internal/merge_engine_state.h"
+#include "map_server/merge/merge_engine.h"
+
+namespace fleetmap {
+namespace {
+
+Box2d Grow(Box2d box, double margin) {
+  box.min.array() -= margin;
+  box.max.array() += margin;
+  return box;
+}
+
+void FillEvent(const MatchResult& r, AlignmentEvent* event) {
+  event->score = r.score;
+  event->ambiguity = r.ambiguity;
+  event->overlap = r.overlap;
+  event->residual = r.residual;
+  event->reason = r.reason;
+}
+
+}  // namespace
+
+void MergeEngine::Consider(Hypothesis h, MergeUpdate* update) {
+  for (auto it = hypotheses_.begin(); it != hypotheses_.end(); ++it) {
+    if (!Agree(h, *it)) continue;
+    const Hypothesis other = *it;
+    hypotheses_.erase(it);
+    h.event.reason += "; confirmed by an independent " +
+                      std::string(other.detection ? "detection" : "submap match") + " (" + other.event.reason + ")";
+    Accept(h, {}, update);
+    graph_.AddEdge(other.edge);
+    if (other.detection_edge) graph_.AddDetection(*other.detection_edge);
+    return;
+  }
+  std::vector<RelativeEdge> edges;
+  if (h.detection && Verify(h, &edges)) {
+    h.event.reason += "; confirmed by matching another submap of " + h.robot_b;
+    Accept(h, edges, update);
+    return;
+  }
+  h.event.type = AlignmentEventType::kHypothesis;
+  h.event.reason += "; kept as a hypothesis until a second, independent piece of evidence agrees";
+  update->events.push_back(h.event);
+  hypotheses_.push_back(std::move(h));
+}
+
+bool MergeEngine::Verify(const Hypothesis& h, std::vector<RelativeEdge>* edges) {
+  const Rigid2d b_in_a = FrameTransform(h);
+  std::vector<std::pair<int64_t, int64_t>> candidates;  // (distance in ids, id)
+  const int64_t used = h.submaps_b.empty() ? 0 : *h.submaps_b.begin();
+  for (const auto& [id, submap] : robots_.at(h.robot_b)->submaps) {
+    if (h.submaps_b.count(id) || !submap.finished || !graph_.HasNode({h.robot_b, id})) continue;
+    candidates.emplace_back(std::abs(id - used), id);
+  }
+  std::sort(candidates.begin(), candidates.end());
+  int attempts = 0;
+  for (const auto& [distance, id] : candidates) {
+    if (attempts >= 4) break;
+    const Submap& submap = robots_.at(h.robot_b)->submaps.at(id);
+    const Rigid2d predicted = b_in_a * *graph_.NodePose({h.robot_b, id});
+    const auto bounds = PlacedBounds(submap.grid, predicted);
+    if (!bounds) continue;
+    ++attempts;
+    const auto target = CroppedTarget(Root(h.robot_a), "", Grow(*bounds, 1.0));
+    SearchWindow window;
+    window.center = predicted;
+    window.linear_half_extent = options_.local_window;
+    window.angular_half_extent = options_.local_angular_window;
+    const MatchResult r = target->Match(SubmapSource(h.robot_b, id), window, options_.verify_gates);
+    if (!r.accepted || (r.pose.translation() - predicted.translation()).norm() > options_.agreement_translation ||
+        std::abs(NormalizeAngle(r.pose.rotation() - predicted.rotation())) > options_.agreement_rotation) {
+      continue;
+    }
+    const auto from = NearestNode(Root(h.robot_a), "", r.pose.translation());
+    if (!from) continue;
+    RelativeEdge edge = MatchEdge(*from, {h.robot_b, id}, EdgeKind::kCrossMatch);
+    edge.to_in_from = graph_.NodePose(*from)->inverse() * r.pose;
+    edges->push_back(edge);
+    return true;
+  }
+  return false;
+}
+
+void MergeEngine::Accept(const Hypothesis& h, const std::vector<RelativeEdge>& extra, MergeUpdate* update) {
+  JoinComponents(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
+  graph_.AddEdge(h.edge);
+  for (const RelativeEdge& e : extra) graph_.AddEdge(e);
+  if (h.detection_edge) graph_.AddDetection(*h.detection_edge);
+  graph_dirty_ = true;
+  AlignmentEvent event = h.event;
+  event.type = AlignmentEventType::kAlignmentAccepted;
+  update->events.push_back(event);
+  // Hypotheses between parts that are now joined either agree with the alignment (and become
+  // constraints) or contradict it (and are dropped, saying so).
+  std::vector<Hypothesis> kept;
+  for (Hypothesis& other : hypotheses_) {
+    if (Root(other.robot_a) != Root(other.robot_b)) {
+      kept.push_back(std::move(other));
+      continue;
+    }
+    const Rigid2d current = LocalToFrame(other.robot_a)->inverse() * *LocalToFrame(other.robot_b);
+    const Rigid2d diff = other.local_b_in_local_a.inverse() * current;
+    AlignmentEvent e = other.event;
+    if (diff.translation().norm() <= options_.agreement_translation &&
+        std::abs(diff.rotation()) <= options_.agreement_rotation) {
+      graph_.AddEdge(other.edge);
+      if (other.detection_edge) graph_.AddDetection(*other.detection_edge);
+      e.type = AlignmentEventType::kConstraintAdded;
+      e.reason = "earlier hypothesis agrees with the accepted alignment";
+    } else {
+      e.type = AlignmentEventType::kRejected;
+      e.reason = "earlier hypothesis contradicts the accepted alignment";
+    }
+    update->events.push_back(e);
+  }
+  hypotheses_ = std::move(kept);
+}
+
+void MergeEngine::ProcessCrossMatches(MergeUpdate* update) {
+  int budget = options_.max_global_searches_per_update;
+  for (auto& [robot_id, robot] : robots_) {
+    for (int64_t id : std::vector<int64_t>(robot->cross_queue.begin(), robot->cross_queue.end())) {
+      if (!graph_.HasNode({robot_id, id})) continue;
+      std::set<std::string> roots;
+      for (const auto& [other, state] : robots_) {
+        if (Root(other) != Root(robot_id) && !state->submaps.empty()) roots.insert(Root(other));
+      }
+      for (const std::string& root : roots) {
+        if (robot->cross_tried[id].count(root) || Root(robot_id) == root) continue;
+        if (budget-- <= 0) return;
+        robot->cross_tried[id].insert(root);
+        const MatchTarget& target = Target(root);
+        if (target.empty()) continue;
+        // Rotate about the points' centroid so the window only has to cover the target map.
+        MatchSource source = SubmapSource(robot_id, id);
+        const Eigen::Vector2d c = Centroid(source.coarse);
+        for (auto& p : source.coarse) p -= c;
+        for (auto& p : source.fine) p -= c;
+        SearchWindow window;
+        window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
+        window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());
+        window.angular_half_extent = M_PI;
+        const MatchResult r = target.Match(source, window, options_.cross_gates);
+        AlignmentEvent event;
+        event.evidence = EvidenceKind::kCrossMatch;
+        event.robot_b = robot_id;
+        event.submaps_b = {id};
+        FillEvent(r, &event);
+        if (!r.found) continue;  // nothing resembling a match: not worth a line of provenance
+        const Rigid2d submap_in_frame = r.pose * Rigid2d(-c, 0.0);
+        const auto from = NearestNode(root, "", submap_in_frame.translation());
+        if (!from) continue;
+        event.robot_a = from->robot;
+        if (!r.accepted) {
+          event.type = AlignmentEventType::kRejected;
+          update->events.push_back(event);
+          continue;
+        }
+        const Rigid2d b_frame_in_a_frame = submap_in_frame * graph_.NodePose({robot_id, id})->inverse();
+        Hypothesis h;
+        h.robot_a = from->robot;
+        h.robot_b = robot_id;
+        h.local_b_in_local_a = LocalToFrame(h.robot_a)->inverse() * b_frame_in_a_frame * *LocalToFrame(robot_id);
+        h.submaps_b = {id};
+        h.edge = MatchEdge(*from, {robot_id, id}, EdgeKind::kCrossMatch);
+        h.edge.to_in_from = graph_.NodePose(*from)->inverse() * submap_in_frame;
+        event.local_b_in_local_a = h.local_b_in_local_a;
+        h.event = event;
+        Consider(std::move(h), update);
+      }
+    }
+  }
+}
+
+void MergeEngine::ProcessLocalConstraints(MergeUpdate* update) {
+  if (!options_.local_constraints) return;
+  int budget = options_.max_local_searches_per_update;
+  for (auto& [robot_id, robot] : robots_) {
+    if (Members(Root(robot_id)).size() < 2) continue;  // nobody else to match against yet
+    for (int64_t id : std::vector<int64_t>(robot->local_queue.begin(), robot->local_queue.end())) {
+      const auto pose = graph_.NodePose({robot_id, id});
+      if (!pose) continue;
+      if (budget-- <= 0) return;
+      robot->local_queue.erase(id);
+      const auto bounds = PlacedBounds(robot->submaps.at(id).grid, *pose);
+      if (!bounds) continue;
+      const auto target = CroppedTarget(Root(robot_id), robot_id, Grow(*bounds, 1.0));
+      if (target->empty()) continue;
+      SearchWindow window;
+      window.center = *pose;
+      window.linear_half_extent = options_.local_window;
+      window.angular_half_extent = options_.local_angular_window;
+      const MatchResult r = target->Match(SubmapSource(robot_id, id), window, options_.verify_gates);
+      if (!r.accepted) continue;
+      const auto from = NearestNode(Root(robot_id), robot_id, r.pose.translation());
+      if (!from) continue;
+      RelativeEdge edge = MatchEdge(*from, {robot_id, id}, EdgeKind::kCrossMatch);
+      edge.to_in_from = graph_.NodePose(*from)->inverse() * r.pose;
+      graph_.AddEdge(edge);
+      graph_dirty_ = true;
+      AlignmentEvent event;
+      event.type = AlignmentEventType::kConstraintAdded;
+      event.evidence = EvidenceKind::kCrossMatch;
+      event.robot_a = from->robot;
+      event.robot_b = robot_id;
+      event.submaps_b = {id};
+      FillEvent(r, &event);
+      update->events.push_back(event);
+    }
+  }
+}
+
+}  // namespace fleetmap

@@ -1,0 +1,298 @@
+#include "map_server/server/merge_engine_worker.h"
+
+#include <algorithm>
+#include <iostream>
+
+namespace fleetmap {
+namespace {
+
+constexpr char kEngineName[] = "merge-engine";
+
+double UnixNow() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+std::set<std::string> PlacedSet(const std::vector<RobotPlacementRecord>& placements) {
+  std::set<std::string> placed;
+  for (const auto& p : placements) {
+    if (p.placed) placed.insert(p.robot_id);
+  }
+  return placed;
+}
+
+}  // namespace
+
+MergeEngineWorker::MergeEngineWorker(const MergeEngineWorkerOptions& options, MapStore* store,
+                                     VersionFeed* feed)
+    : options_(options),
+      store_(store),
+      feed_(feed),
+      queue_(options.common.queue_capacity),
+      engine_(std::make_unique<MergeEngine>(options.engine)) {}
+
+MergeEngineWorker::~MergeEngineWorker() { Stop(); }
+
+void MergeEngineWorker::Start() {
+  // Serve the stored latest version (and its placements) at once; the engine is rebuilt from
+  // the store on the worker thread, since re-aligning every robot is heavy.
+  restored_ = store_->LatestVersion();
+  if (restored_) {
+    auto snapshot = std::make_shared<GlobalMapSnapshot>();
+    snapshot->info = *restored_;
+    const auto grid = store_->GetVersionGrid(restored_->version);
+    GridDecodeError code;
+    std::string error;
+    if (grid && Decompress(*grid, GridLimits(), &snapshot->grid, &code, &error)) {
+      snapshot->encoded = *grid;
+      feed_->Publish(snapshot);
+    }
+    std::lock_guard<std::mutex> lock(placements_mutex_);
+    placements_ = restored_->placements;
+  }
+  rebuild_pending_ = true;
+  last_publish_ = std::chrono::steady_clock::now();
+  thread_ = std::thread([this] { Run(); });
+}
+
+void MergeEngineWorker::Stop() {
+  if (!thread_.joinable()) return;
+  stopping_ = true;
+  queue_.Close();
+  thread_.join();
+}
+
+void MergeEngineWorker::Submit(MergeEvent event) {
+  if (!queue_.TryPush(std::move(event))) resync_needed_ = true;
+}
+
+std::vector<RobotPlacementRecord> MergeEngineWorker::Placements() const {
+  std::lock_guard<std::mutex> lock(placements_mutex_);
+  return placements_;
+}
+
+void MergeEngineWorker::Run() {
+  const auto interval = std::chrono::duration<double>(options_.common.min_version_interval);
+  while (true) {
+    if (rebuild_pending_) {
+      rebuild_pending_ = false;
+      Rebuild(restored_ ? "startup: rebuilt from the store" : "startup");
+    }
+    auto event = queue_.PopWait(std::chrono::milliseconds(50));
+    const bool drained = !event.has_value();
+    // Apply what is queued, but run the engine and publish on time while uploads keep coming.
+    const auto batch_start = std::chrono::steady_clock::now();
+    while (event) {
+      Apply(*event);
+      if (std::chrono::steady_clock::now() - batch_start >= interval) break;
+      event = queue_.PopWait(std::chrono::milliseconds(0));
+    }
+    if (resync_needed_.exchange(false)) Rebuild("queue overflow: rebuilt from the store");
+    // Searches postponed by the engine's per-update bounds continue while the queue is idle.
+    if (engine_inputs_ || (!stopping_ && engine_->HasPendingWork())) RunEngine();
+    const bool due = std::chrono::steady_clock::now() - last_publish_ >= interval;
+    if (dirty_ && (due || stopping_)) PublishVersion();
+    if (stopping_ && drained) break;
+  }
+}
+
+void MergeEngineWorker::Apply(const MergeEvent& event) {
+  switch (event.kind) {
+    case MergeEvent::Kind::kRobotRegistered:
+      ApplyRobot(event.robot_id);
+      return;
+    case MergeEvent::Kind::kSubmapStored:
+      if (!event.submap) return;
+      if (!robots_.count(event.robot_id)) ApplyRobot(event.robot_id);
+      ApplySubmap(*event.submap);
+      if (trigger_.empty()) trigger_ = "submaps";
+      trigger_robots_.insert(event.robot_id);
+      return;
+    case MergeEvent::Kind::kTrajectoryStored:
+      ApplyTrajectory(event.robot_id);
+      return;
+    case MergeEvent::Kind::kDetectionStored: {
+      if (!event.detection) return;
+      const RobotDetection& detection = event.detection->detection;
+      if (!detection_seqs_.insert(event.detection->seq).second) return;
+      new_detections_.push_back(DetectionRef{detection.observer_id, event.detection->detection_id});
+      std::string error;
+      if (!engine_->AddDetection(detection, &error)) {
+        std::cerr << "fleetmap-server: merge engine refused detection "
+                  << event.detection->detection_id << " of " << detection.observer_id << ": "
+                  << error << "\n";
+        return;
+      }
+      engine_inputs_ = true;
+      return;
+    }
+  }
+}
+
+void MergeEngineWorker::ApplyRobot(const std::string& robot_id) {
+  const std::optional<RobotRecord> robot = store_->GetRobot(robot_id);
+  if (!robot) return;
+  const auto old = robots_.find(robot_id);
+  const bool known_before = old != robots_.end() && old->second.local_in_global.has_value();
+  robots_[robot_id] = *robot;
+  trigger_robots_.insert(robot_id);
+  if (trigger_.empty()) trigger_ = "robot registered";
+  if (robot->local_in_global) {
+    const bool same = known_before &&
+                      old->second.local_in_global->translation() ==
+                          robot->local_in_global->translation() &&
+                      old->second.local_in_global->rotation() == robot->local_in_global->rotation();
+    // The engine takes a known placement only before robots of unknown start are folded in,
+    // and never moves one: otherwise start over with every known placement first.
+    if (!same && (known_before || !engine_->SetKnownPlacement(robot_id, *robot->local_in_global))) {
+      Rebuild("robot registered with a start pose: rebuilt from the store");
+      return;
+    }
+  } else if (known_before) {
+    Rebuild("robot re-registered without a start pose: rebuilt from the store");
+    return;
+  }
+  RefreshPlacements();
+  dirty_ = true;
+}
+
+void MergeEngineWorker::ApplySubmap(const StoredSubmap& stored) {
+  covered_seq_ = std::max(covered_seq_, stored.seq);
+  const Submap& submap = stored.submap;
+  auto fed = submap_revisions_.find({submap.robot_id, submap.submap_id});
+  if (fed != submap_revisions_.end() && fed->second >= submap.revision) return;
+  new_submaps_.push_back(SubmapKey{submap.robot_id, submap.submap_id, submap.revision});
+  std::string error;
+  if (!engine_->AddOrUpdateSubmap(submap, &error)) {
+    std::cerr << "fleetmap-server: merge engine refused submap " << submap.robot_id << "/"
+              << submap.submap_id << " revision " << submap.revision << ": " << error << "\n";
+    return;
+  }
+  submap_revisions_[{submap.robot_id, submap.submap_id}] = submap.revision;
+  engine_inputs_ = true;
+  dirty_ = true;  // the submap changes the map (if placed) or the unplaced counts
+}
+
+void MergeEngineWorker::ApplyTrajectory(const std::string& robot_id) {
+  const std::optional<TrajectoryRecord> trajectory = store_->LatestTrajectory(robot_id);
+  if (!trajectory) return;
+  int64_t& known = trajectory_revisions_[robot_id];
+  if (trajectory->revision <= known && known != 0) return;
+  known = trajectory->revision;
+  std::string error;
+  if (!engine_->SetTrajectory(robot_id, trajectory->poses, &error)) {
+    std::cerr << "fleetmap-server: merge engine refused the trajectory of " << robot_id << ": "
+              << error << "\n";
+    return;
+  }
+  engine_inputs_ = true;
+}
+
+void MergeEngineWorker::RunEngine() {
+  engine_inputs_ = false;
+  MergeUpdate update = engine_->Update();
+  const std::set<std::string> placed_before = PlacedSet(Placements());
+  NoteEvents(update.events, &status_);
+  RefreshPlacements();
+  const bool placements_changed = PlacedSet(Placements()) != placed_before;
+  const bool has_news = std::any_of(update.events.begin(), update.events.end(), [](const auto& e) {
+    return e.type != AlignmentEventType::kPending;
+  });
+  new_events_.insert(new_events_.end(), update.events.begin(), update.events.end());
+  if (update.graph_changed || placements_changed || has_news) dirty_ = true;
+}
+
+void MergeEngineWorker::Rebuild(const std::string& trigger) {
+  engine_ = std::make_unique<MergeEngine>(options_.engine);
+  robots_.clear();
+  trajectory_revisions_.clear();
+  submap_revisions_.clear();
+  detection_seqs_.clear();
+  status_.clear();
+  for (const RobotRecord& robot : store_->ListRobots()) {
+    robots_[robot.robot_id] = robot;
+    if (robot.local_in_global) engine_->SetKnownPlacement(robot.robot_id, *robot.local_in_global);
+  }
+  // In ingest order, so the same robot defines the global frame as before the restart.
+  std::vector<StoredSubmap> submaps = store_->LatestSubmaps("");
+  std::sort(submaps.begin(), submaps.end(),
+            [](const StoredSubmap& a, const StoredSubmap& b) { return a.seq < b.seq; });
+  const std::vector<SubmapKey> pending = new_submaps_;
+  for (const StoredSubmap& stored : submaps) ApplySubmap(stored);
+  new_submaps_ = pending;  // provenance lists what is new, not what was re-fed
+  for (const auto& [id, robot] : robots_) ApplyTrajectory(id);
+  std::string error;
+  for (const DetectionRecord& record : store_->DetectionsAfter(0)) {
+    if (!detection_seqs_.insert(record.seq).second) continue;
+    if (!engine_->AddDetection(record.detection, &error)) continue;
+  }
+  // Fold everything in before serving placements, so a restart does not show robots unplaced.
+  engine_inputs_ = true;
+  const std::set<std::string> placed_before = PlacedSet(Placements());
+  for (int pass = 0; pass < 10000 && !stopping_; ++pass) {
+    RunEngine();
+    if (!engine_->HasPendingWork()) break;
+  }
+  trigger_ = trigger;
+  // After a restart a new version is needed only when the stored one is stale.
+  const bool stale = !restored_ || restored_->covered_submap_seq < covered_seq_ ||
+                     PlacedSet(Placements()) != PlacedSet(restored_->placements) ||
+                     PlacedSet(Placements()) != placed_before;
+  dirty_ = stale || !new_submaps_.empty();
+  restored_.reset();
+}
+
+void MergeEngineWorker::RefreshPlacements() {
+  std::vector<RobotPlacementRecord> placements = MakePlacements(robots_, *engine_, status_);
+  std::lock_guard<std::mutex> lock(placements_mutex_);
+  placements_ = std::move(placements);
+}
+
+void MergeEngineWorker::PublishVersion() {
+  auto snapshot = std::make_shared<GlobalMapSnapshot>();
+  VersionRecord& info = snapshot->info;
+  info.created_unix_time = UnixNow();
+  info.covered_submap_seq = covered_seq_;
+  info.trigger = trigger_.empty() ? "merge update" : trigger_;
+  info.trigger_robot_ids.assign(trigger_robots_.begin(), trigger_robots_.end());
+  info.new_submaps = new_submaps_;
+  info.new_detections = new_detections_;
+  info.merge_engine = kEngineName;
+  info.placements = Placements();
+  int placed = 0;
+  for (const auto& p : info.placements) placed += p.placed;
+  info.quality["robots_placed"] = placed;
+  info.quality["robots_unplaced"] = static_cast<double>(info.placements.size()) - placed;
+  info.quality["submaps_placed"] = static_cast<double>(engine_->SubmapPoses().size());
+  AddEngineProvenance(new_events_, engine_->Quality(), &info);
+  std::string error;
+  std::optional<OccupancyGrid> grid =
+      engine_->RenderGlobalMap(std::nullopt, options_.common.resolution, &error);
+  if (!grid) {
+    if (!error.empty()) std::cerr << "fleetmap-server: rendering failed: " << error << "\n";
+    OccupancyGridOptions empty;
+    empty.resolution = options_.common.resolution;
+    grid.emplace(empty);
+  }
+  snapshot->grid = Quantize(*grid, options_.common.log_odds_limit, /*crop_to_known=*/true);
+  if (snapshot->grid.geometry.cells() == 0) snapshot->grid.geometry.origin.setZero();
+  snapshot->encoded = Compress(snapshot->grid, options_.common.zstd_level);
+  info.version = store_->PutVersion(info, snapshot->encoded, &error);
+  last_publish_ = std::chrono::steady_clock::now();
+  if (info.version == 0) {
+    // Keep the pending provenance; the next pass retries.
+    std::cerr << "fleetmap-server: storing a global map version failed: " << error << "\n";
+    return;
+  }
+  info.geometry = snapshot->encoded.geometry;
+  info.grid_available = true;
+  feed_->Publish(snapshot);
+  dirty_ = false;
+  trigger_.clear();
+  trigger_robots_.clear();
+  new_submaps_.clear();
+  new_detections_.clear();
+  new_events_.clear();
+}
+
+}  // namespace fleetmap

@@ -1,0 +1,92 @@
+#ifndef FLEETMAP_MAP_SERVER_SERVER_MERGE_ENGINE_WORKER_H_
+#define FLEETMAP_MAP_SERVER_SERVER_MERGE_ENGINE_WORKER_H_
+
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <thread>
+#include <vector>
+
+#include "map_server/merge/merge_engine.h"
+#include "map_server/server/bounded_queue.h"
+#include "map_server/server/known_pose_merge_worker.h"
+#include "map_server/server/merge_engine_provenance.h"
+#include "map_server/server/merge_worker.h"
+#include "map_server/server/version_feed.h"
+#include "map_server/store/map_store.h"
+
+namespace fleetmap {
+
+struct MergeEngineWorkerOptions {
+  // Queue, version pacing and map encoding: the same fields as the known-pose worker.
+  KnownPoseMergeWorkerOptions common;
+  MergeEngineOptions engine;
+};
+
+// The MergeWorker that merges robots of unknown start (issue 8): one thread owns a MergeEngine
+// fed from the bounded queue with the stored submaps, trajectories and detections; after each
+// engine Update() that changed the map it renders, stores and publishes a new version whose
+// provenance lists the engine's alignment events and quality figures. Robots registered with a
+// start pose are held there (MergeEngine::SetKnownPlacement), as with KnownPoseMergeWorker.
+// On start and on queue overflow the engine is rebuilt from the store.
+class MergeEngineWorker : public MergeWorker {
+ public:
+  MergeEngineWorker(const MergeEngineWorkerOptions& options, MapStore* store, VersionFeed* feed);
+  ~MergeEngineWorker() override;
+
+  void Start() override;
+  void Stop() override;
+  void Submit(MergeEvent event) override;
+  std::vector<RobotPlacementRecord> Placements() const override;
+
+ private:
+  void Run();
+  void Apply(const MergeEvent& event);
+  void ApplyRobot(const std::string& robot_id);
+  void ApplySubmap(const StoredSubmap& stored);
+  void ApplyTrajectory(const std::string& robot_id);
+  // Runs the engine once and records what it did; false when nothing changed.
+  void RunEngine();
+  // A fresh engine fed with everything in the store.
+  void Rebuild(const std::string& trigger);
+  void RefreshPlacements();
+  void PublishVersion();
+
+  const MergeEngineWorkerOptions options_;
+  MapStore* const store_;
+  VersionFeed* const feed_;
+  BoundedQueue<MergeEvent> queue_;
+  std::atomic<bool> resync_needed_{false};
+  std::atomic<bool> stopping_{false};
+  std::thread thread_;
+
+  // Owned by the worker thread (and by Start() before the thread exists).
+  std::unique_ptr<MergeEngine> engine_;
+  std::map<std::string, RobotRecord> robots_;
+  std::map<std::string, int64_t> trajectory_revisions_;
+  // What the engine already has, so events replayed after a rebuild are not fed twice.
+  std::map<std::pair<std::string, int64_t>, int64_t> submap_revisions_;
+  std::set<int64_t> detection_seqs_;
+  std::map<std::string, RobotMergeStatus> status_;  // why each robot is (un)placed
+  std::optional<VersionRecord> restored_;  // the stored version served until the first rebuild
+  bool rebuild_pending_ = false;
+  bool engine_inputs_ = false;  // the engine got data since its last Update()
+  int64_t covered_seq_ = 0;
+  bool dirty_ = false;
+  std::string trigger_;
+  std::set<std::string> trigger_robots_;
+  std::vector<SubmapKey> new_submaps_;
+  std::vector<DetectionRef> new_detections_;
+  std::vector<AlignmentEvent> new_events_;
+  std::chrono::steady_clock::time_point last_publish_;
+
+  mutable std::mutex placements_mutex_;  // guards placements_ (read by RPC threads)
+  std::vector<RobotPlacementRecord> placements_;
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_MAP_SERVER_SERVER_MERGE_ENGINE_WORKER_H_

@@ -1,0 +1,32 @@
+#ifndef FLEETMAP_ROBOT_AGENT_AGENT_PROTO_CONVERSIONS_H_
+#define FLEETMAP_ROBOT_AGENT_AGENT_PROTO_CONVERSIONS_H_
+
+// The agent's one place where domain types meet fleetmap.v1 messages.
+
+#include <string>
+
+#include "proto/fleetmap/v1/fleetmap.pb.h"
+#include "shared/codec/grid_codec.h"
+#include "shared/core/robot_detection.h"
+#include "shared/core/submap.h"
+#include "shared/core/trajectory.h"
+
+namespace fleetmap::agent {
+
+// In a namespace of its own: the server has conversions with the same signatures, and tests
+// link both.
+
+v1::Pose2d ToProto(const Rigid2d& pose);
+Rigid2d FromProto(const v1::Pose2d& pose);
+
+// The submap with its grid cropped to observed cells, int8 log-odds, zstd.
+v1::SubmapUpload ToProto(const Submap& submap, int zstd_level = 1);
+v1::UploadTrajectoryRequest ToTrajectoryRequest(const std::string& robot_id, int64_t revision,
+                                                const Trajectory& trajectory);
+v1::Detection ToProto(const RobotDetection& detection, int64_t detection_id);
+
+EncodedGrid FromProto(const v1::Grid& grid);
+
+}  // namespace fleetmap::agent
+
+#endif  // FLEETMAP_ROBOT_AGENT_AGENT_PROTO_CONVERSIONS_H_

@@ -1,0 +1,48 @@
+#include "robot_agent/bench/sim_slam_run.h"
+
+#include <chrono>
+#include <memory>
+#include <utility>
+
+#include "robot_agent/sim/simulation.h"
+
+namespace fleetmap {
+
+bool RunSimulatedScenario(const std::string& scenario_path, LocalSlam* slam, SimSlamRun* run,
+                          std::string* error) {
+  std::unique_ptr<sim::Simulation> simulation =
+      sim::Simulation::FromFile(scenario_path, error, /*camera_enabled=*/false);
+  if (!simulation) return false;
+  *run = SimSlamRun();
+  using Clock = std::chrono::steady_clock;
+  Clock::duration spent{};
+  auto take_submaps = [&] {
+    for (Submap& submap : slam->TakeSubmapUpdates()) run->submaps[submap.submap_id] = std::move(submap);
+  };
+  while (!simulation->Done()) {
+    const sim::StepResult step = simulation->Step();
+    for (const sim::SensorPacket& packet : step.packets) {
+      if (packet.robot_index != 0) continue;
+      const Clock::time_point start = Clock::now();
+      if (packet.odometry &&
+          !slam->AddOdometry({packet.odometry->timestamp, packet.odometry->robot_pose}, error)) {
+        return false;
+      }
+      if (packet.laser) {
+        if (!slam->AddScan(packet.laser->scan, error)) return false;
+        run->ground_truth.push_back({packet.laser->scan.timestamp, packet.ground_truth});
+        if (++run->scans % 100 == 0) take_submaps();
+      }
+      spent += Clock::now() - start;
+    }
+  }
+  const Clock::time_point start = Clock::now();
+  slam->Finish();
+  take_submaps();
+  run->estimate = slam->trajectory();
+  spent += Clock::now() - start;
+  run->slam_seconds = std::chrono::duration<double>(spent).count();
+  return true;
+}
+
+}  // namespace fleetmap

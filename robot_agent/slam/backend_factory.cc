@@ -1,0 +1,30 @@
+#include "robot_agent/slam/backend_factory.h"
+
+#include "robot_agent/slam/particle_slam.h"
+#include "robot_agent/slam/scan_matching_slam.h"
+
+namespace fleetmap {
+
+std::vector<std::string> LocalSlamAlgorithms() { return {"scan-matching", "fastslam", "rbpf"}; }
+
+std::unique_ptr<LocalSlam> MakeLocalSlam(const BackendChoice& choice, std::string* error) {
+  if (choice.algorithm == "scan-matching") {
+    ScanMatchingSlamOptions options;
+    options.robot_id = choice.robot_id;
+    return std::make_unique<ScanMatchingSlam>(options);
+  }
+  if (choice.algorithm == "fastslam" || choice.algorithm == "rbpf") {
+    ParticleSlamOptions options =
+        choice.algorithm == "rbpf" ? ParticleSlamOptions::Rbpf() : ParticleSlamOptions::FastSlam();
+    options.robot_id = choice.robot_id;
+    options.filter.particles = choice.particles;
+    options.filter.seed = choice.seed;
+    return std::make_unique<ParticleSlam>(options);
+  }
+  std::string known;
+  for (const std::string& name : LocalSlamAlgorithms()) known += (known.empty() ? "" : ", ") + name;
+  if (error) *error = "unknown SLAM algorithm '" + choice.algorithm + "' (known: " + known + ")";
+  return nullptr;
+}
+
+}  // namespace fleetmap

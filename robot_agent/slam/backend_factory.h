@@ -1,0 +1,29 @@
+#ifndef FLEETMAP_ROBOT_AGENT_SLAM_BACKEND_FACTORY_H_
+#define FLEETMAP_ROBOT_AGENT_SLAM_BACKEND_FACTORY_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "robot_agent/slam/local_slam.h"
+
+namespace fleetmap {
+
+// Settings the command-line tools can choose per run; each backend keeps its own defaults for
+// everything else.
+struct BackendChoice {
+  std::string algorithm = "scan-matching";
+  std::string robot_id = "robot";
+  int particles = 30;  // particle filters only
+  unsigned seed = 1;   // particle filters only
+};
+
+// The algorithm names MakeLocalSlam accepts.
+std::vector<std::string> LocalSlamAlgorithms();
+
+// A backend by name; nullptr and a message listing the known names when unknown.
+std::unique_ptr<LocalSlam> MakeLocalSlam(const BackendChoice& choice, std::string* error);
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_ROBOT_AGENT_SLAM_BACKEND_FACTORY_H_

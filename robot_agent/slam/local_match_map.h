@@ -1,0 +1,48 @@
+#ifndef FLEETMAP_ROBOT_AGENT_SLAM_LOCAL_MATCH_MAP_H_
+#define FLEETMAP_ROBOT_AGENT_SLAM_LOCAL_MATCH_MAP_H_
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "shared/core/rigid2d.h"
+#include "shared/matching/match_grid.h"
+
+namespace fleetmap {
+
+struct LocalMatchMapOptions {
+  MatchGridOptions grid;
+  // Each of the two overlapping grids holds up to 2 * scans_per_grid scans; a new grid starts
+  // every scans_per_grid scans, so the target always holds between scans_per_grid and
+  // 2 * scans_per_grid recent scans.
+  int scans_per_grid = 30;
+};
+
+// The map of recent scans a new scan is matched against (Hähnel-style local map). Two
+// overlapping distance grids are kept: scans go into both, matching uses the older (fuller) one,
+// and when it is full it is dropped. Old, drifted parts of the trajectory never enter the target,
+// which is what keeps incremental maximum-likelihood mapping consistent over a long run.
+class LocalMatchMap {
+ public:
+  explicit LocalMatchMap(const LocalMatchMapOptions& options);
+
+  // Adds a scan's points (robot frame) taken at `robot_in_local`.
+  void Insert(const std::vector<Eigen::Vector2f>& points_in_robot, const Rigid2d& robot_in_local);
+  // The grid to match against; empty before the first insertion.
+  const MatchGrid& target() const { return *grids_.front().grid; }
+  int inserted_scans() const { return inserted_; }
+
+ private:
+  struct Entry {
+    std::unique_ptr<MatchGrid> grid;
+    int scans = 0;
+  };
+  LocalMatchMapOptions options_;
+  std::vector<Entry> grids_;  // oldest first; never empty
+  int inserted_ = 0;
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_ROBOT_AGENT_SLAM_LOCAL_MATCH_MAP_H_

@@ -1,0 +1,163 @@
+#ifndef FLEETMAP_ROBOT_AGENT_SLAM_LOOP_CLOSURE_H_
+#define FLEETMAP_ROBOT_AGENT_SLAM_LOOP_CLOSURE_H_
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "robot_agent/slam/pose_graph_2d.h"
+#include "shared/core/rigid2d.h"
+#include "shared/matching/correlative_search.h"
+#include "shared/matching/match_grid.h"
+#include "shared/matching/match_grid_pyramid.h"
+#include "shared/matching/pose_refinement.h"
+
+namespace fleetmap {
+
+struct LoopClosureOptions {
+  bool enabled = true;
+  // Loop-closure targets: one distance grid per submap, in the submap frame.
+  MatchGridOptions grid;
+  int pyramid_levels = 7;
+  // Returns farther than this stay out of the targets and the searches (metres).
+  float max_range = 15.0f;
+  // The branch-and-bound search uses one point per voxel of this size; refinement uses all.
+  float search_voxel_size = 0.15f;
+  // Nodes whose scan faces one direction only (a plain corridor: less than this share of surface
+  // normals across it, see NormalScatter) are not searched: their matches slide along the axis.
+  double min_observed_normals = 0.03;
+  // Every n-th node is searched against the finished submaps near it.
+  int search_every_nodes = 4;
+  // Submaps this recent (by id, relative to the node's own) are left to the local constraints.
+  int min_submap_gap = 2;
+  // Only submaps whose centre lies this close to the node's current estimate are searched.
+  double max_search_distance = 10.0;
+  // ... and of those, only the nearest few (the search dominates the cost).
+  int max_submaps_per_search = 3;
+  // Window around the current estimate: search.linear_window at most, less when the target
+  // submap was tied to the graph recently: min_linear_window + linear_window_per_metre * the
+  // travel since the target's last loop closure (or since it was built). A window much wider
+  // than the drift only adds ways to match a repeating structure (doors, pillars) one period off.
+  CorrelativeSearchOptions search = DefaultSearch();
+  double min_linear_window = 3.5;
+  double linear_window_per_metre = 0.02;
+  PoseRefinementOptions refinement = DefaultRefinement();
+  // Strict gates: a wrong loop closure hurts more than a missed one.
+  double min_refined_score = 0.65;
+  double min_inlier_fraction = 0.8;
+  // A match only becomes a constraint once at least `min_agreeing` matches of nodes searched
+  // within `candidate_lifetime_nodes` (itself included) imply the same correction of the current
+  // estimate, within these tolerances: wrong matches (repeating structure, partial overlap)
+  // scatter, right ones agree because drift is locally rigid.
+  int min_agreeing = 3;
+  int candidate_lifetime_nodes = 60;
+  double agreement_translation = 0.2;
+  double agreement_rotation = 0.035;
+  // Pose graph: local constraints (node to its submap, node to the previous node) come from the
+  // scan matcher and are trusted; loop closures carry a Huber loss.
+  double local_translation_sigma = 0.02;
+  double local_rotation_sigma = 0.005;
+  double loop_translation_sigma = 0.05;
+  double loop_rotation_sigma = 0.01;
+  double loop_robust_scale = 1.0;
+  // After an optimisation, loop closures still this far from the solution are dropped as wrong
+  // matches and the graph is solved again without them.
+  double max_loop_residual_translation = 0.3;
+  double max_loop_residual_rotation = 0.05;
+  // The graph is optimised when new loop closures arrived and this many nodes were added since
+  // the last optimisation.
+  int optimize_every_nodes = 60;
+  PoseGraphOptions graph;
+
+  static CorrelativeSearchOptions DefaultSearch();
+  static PoseRefinementOptions DefaultRefinement();
+};
+
+// Cartographer-style global SLAM over the local SLAM's output: keeps the scan nodes and the
+// submaps they were inserted into, searches recent nodes against older finished submaps with the
+// branch-and-bound matcher, and optimises a pose graph over submap anchors and nodes. The local
+// frontend keeps running in its own (drifting) local frame; this class maps local poses to the
+// corrected ("global", still the robot's map frame) ones.
+class LoopClosure {
+ public:
+  explicit LoopClosure(const LoopClosureOptions& options = LoopClosureOptions());
+  LoopClosure(const LoopClosure&) = delete;
+  LoopClosure& operator=(const LoopClosure&) = delete;
+
+  // A scan inserted into submap `submap_id` (anchored at `submap_in_local`) at `robot_in_local`;
+  // points in the robot frame. Nodes come in time order and submap ids never go back. Returns
+  // true when the pose graph was optimised (corrections changed).
+  bool AddNode(double timestamp, const std::vector<Eigen::Vector2f>& points_in_robot,
+               const Rigid2d& robot_in_local, int64_t submap_id, const Rigid2d& submap_in_local);
+  // End of input: optimises once more if loop closures are pending. Returns true when it did.
+  bool Finish();
+
+  // local -> corrected map frame at `timestamp`, interpolated between the neighbouring nodes.
+  Rigid2d CorrectionAt(double timestamp) const;
+  // The corrected anchor of a submap; empty for unknown ids.
+  std::optional<Rigid2d> SubmapInGlobal(int64_t submap_id) const;
+
+  int64_t nodes() const { return static_cast<int64_t>(nodes_.size()); }
+  int64_t searches() const { return searches_; }
+  int64_t candidates() const { return candidate_count_; }
+  int64_t loop_constraints() const { return static_cast<int64_t>(loops_.size()); }
+  int64_t optimizations() const { return optimizations_; }
+  int64_t dropped_loops() const { return dropped_; }
+
+ private:
+  struct Node {
+    double timestamp;
+    Rigid2d local;
+    Rigid2d global;
+    int submap;  // index into submaps_
+    double travel;  // metres along the local trajectory since the first node
+  };
+  struct SubmapEntry {
+    int64_t id;
+    Rigid2d local;
+    Rigid2d global;
+    std::unique_ptr<MatchGrid> grid;
+    std::unique_ptr<MatchGridPyramid> pyramid;  // set when finished
+    Eigen::Vector2d centre_sum = Eigen::Vector2d::Zero();  // of node positions, submap frame
+    int node_count = 0;
+    double linked_travel = 0.0;  // node travel when the submap was last built on or loop-closed
+  };
+  struct Loop {
+    int node;
+    int submap;
+    Rigid2d node_in_submap;
+    bool accepted = false;
+  };
+
+  int SubmapIndex(int64_t submap_id, const Rigid2d& submap_in_local);
+  void SearchLoops(int node, const std::vector<Eigen::Vector2f>& points_in_robot);
+  // Moves candidates that enough others agree with into loops_, and forgets old ones.
+  void ConfirmCandidates();
+  bool Agree(const Loop& a, const Loop& b) const;
+  bool Optimize();
+  bool Solve();
+  // Removes loop closures the solution disagrees with; returns how many.
+  int DropInconsistentLoops();
+  Rigid2d NodeCorrection(size_t node) const;
+
+  const LoopClosureOptions options_;
+  std::vector<Node> nodes_;
+  std::vector<SubmapEntry> submaps_;
+  std::map<int64_t, int> submap_index_;
+  std::vector<Loop> loops_;
+  std::vector<Loop> candidates_;
+  size_t loops_at_last_optimization_ = 0;
+  size_t nodes_at_last_optimization_ = 0;
+  int64_t searches_ = 0;
+  int64_t optimizations_ = 0;
+  int64_t dropped_ = 0;
+  int64_t candidate_count_ = 0;
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_ROBOT_AGENT_SLAM_LOOP_CLOSURE_H_

@@ -1,0 +1,179 @@
+#include "robot_agent/slam/particle_slam.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "shared/matching/point_filter.h"
+
+namespace fleetmap {
+
+ParticleSlamOptions ParticleSlamOptions::FastSlam() {
+  ParticleSlamOptions options;
+  options.name = "fastslam";
+  options.filter.proposal = ParticleProposal::kMotionModel;
+  options.filter.resample_threshold = 2.0;  // every update, as in the paper's pseudo-code
+  // Smaller steps than the RBPF: a motion-model proposal needs its particles close together.
+  options.update_translation = 0.3;
+  options.update_rotation = 0.2;
+  return options;
+}
+
+ParticleSlamOptions ParticleSlamOptions::Rbpf() {
+  ParticleSlamOptions options;
+  options.name = "rbpf";
+  return options;
+}
+
+ParticleSlam::ParticleSlam(const ParticleSlamOptions& options)
+    : options_(options),
+      pool_(std::make_unique<ThreadPool>(options_.threads)),
+      filter_(options_.filter, pool_.get()),
+      submaps_(options.robot_id, options.keyframes_per_submap, [&] {
+        OccupancyGridOptions grid = options.submap_grid;
+        grid.max_trace_range = options.max_range;
+        return grid;
+      }()),
+      tracker_(options_.tracker) {}
+
+bool ParticleSlam::CheckTime(double timestamp, const char* what, std::string* error) {
+  if (!std::isfinite(timestamp)) {
+    if (error) *error = std::string(what) + " with a non-finite timestamp";
+    return false;
+  }
+  if (timestamp < last_time_) {
+    std::ostringstream message;
+    message.precision(17);
+    message << what << " at time " << timestamp << " is older than the previous input (time "
+            << last_time_ << "): inputs must come in time order";
+    if (error) *error = message.str();
+    return false;
+  }
+  return true;
+}
+
+bool ParticleSlam::AddOdometry(const StampedPose& odometry, std::string* error) {
+  if (!CheckTime(odometry.timestamp, "odometry", error)) return false;
+  if (!odometry_.Add(odometry, error)) return false;
+  last_time_ = odometry.timestamp;
+  return true;
+}
+
+ParticleScan ParticleSlam::Prepare(const LaserScan& scan, LaserScan* limited,
+                                   std::vector<Eigen::Vector2f>* tracker_points) const {
+  ParticleScan out;
+  *limited = scan;
+  for (float& range : limited->ranges) {
+    if (!(range <= options_.max_range)) range = LaserScan::kNoReturn;
+  }
+  const std::vector<Eigen::Vector2f> points = RangeFilter(ToPointsInRobotFrame(scan), options_.max_range);
+  out.match_points = VoxelFilter(points, options_.match_voxel);
+  *tracker_points = VoxelFilter(points, options_.tracker_voxel);
+  out.sensor_origin = scan.sensor_in_robot.translation();
+  // Long beams clear space up to max_range without marking a hit; no-return beams are skipped
+  // (glass and dropouts).
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    const float range = scan.ranges[i];
+    if (!std::isfinite(range) || range <= 0.0f) continue;
+    const bool hit = range <= options_.max_range;
+    const double r = hit ? range : options_.max_range;
+    const double angle = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
+    out.ray_ends.push_back(scan.sensor_in_robot * Eigen::Vector2d(r * std::cos(angle), r * std::sin(angle)));
+    out.ray_hits.push_back(hit ? 1 : 0);
+  }
+  return out;
+}
+
+bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
+  if (!CheckTime(scan.timestamp, "scan", error)) return false;
+  if (!scan.sensor_in_robot.IsFinite()) {
+    if (error) *error = "scan with a non-finite sensor mounting pose";
+    return false;
+  }
+  last_time_ = scan.timestamp;
+  const std::optional<Rigid2d> odometry = odometry_.PoseAt(scan.timestamp);
+  Rigid2d odometry_delta;
+  if (odometry && last_odometry_) odometry_delta = last_odometry_->inverse() * *odometry;
+  if (odometry) last_odometry_ = odometry;
+
+  LaserScan limited;
+  std::vector<Eigen::Vector2f> tracker_points;
+  const ParticleScan prepared = Prepare(scan, &limited, &tracker_points);
+  if (!filter_.initialized()) {
+    if (prepared.match_points.empty()) {
+      // Nothing to start a map with yet: the robot stays at the origin.
+      trajectory_.push_back({scan.timestamp, current_pose_});
+      anchors_.push_back({0, current_pose_});
+      return true;
+    }
+    filter_.Initialize(current_pose_, prepared);
+    AddKeyframe(limited, std::move(tracker_points));
+  } else {
+    const Rigid2d predicted = current_pose_ * odometry_delta;
+    odometry_since_update_ = odometry_since_update_ * odometry_delta;
+    std::optional<Rigid2d> tracked = tracker_.Track(tracker_points, predicted);
+    if (!tracked) {
+      const ParticleMatch match =
+          MatchAgainstTiles(prepared.match_points, filter_.best().map, predicted, options_.tracking);
+      if (match.good) tracked = match.pose;
+    }
+    current_pose_ = tracked ? *tracked : predicted;
+    ++(tracked ? tracked_ : tracking_failures_);
+    const Rigid2d tracked_motion = keyframe_poses_.back().inverse() * current_pose_;
+    const Rigid2d motion = options_.scan_matched_motion ? tracked_motion : odometry_since_update_;
+    if (!prepared.match_points.empty() && (motion.translation().norm() >= options_.update_translation ||
+                                           std::abs(motion.rotation()) >= options_.update_rotation)) {
+      filter_.Update(motion, tracked_motion, prepared);
+      odometry_since_update_ = Rigid2d();
+      AddKeyframe(limited, std::move(tracker_points));
+    }
+  }
+  anchors_.push_back({keyframe_poses_.size() - 1, keyframe_poses_.back().inverse() * current_pose_});
+  trajectory_.push_back({scan.timestamp, current_pose_});
+  return true;
+}
+
+void ParticleSlam::AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points) {
+  submaps_.AddKeyframe(limited);
+  tracker_.AddKeyframe(std::move(tracker_points));
+  RefreshBestHistory();
+  current_pose_ = keyframe_poses_.back();
+}
+
+// Takes the best particle's keyframe history; when its earlier part changed (resampling or a
+// different best particle), every scan pose is re-derived from its keyframe and the trajectory
+// revision grows.
+void ParticleSlam::RefreshBestHistory() {
+  std::vector<Rigid2d> history = filter_.History(filter_.best_index());
+  bool changed = false;
+  for (size_t i = 0; i < keyframe_poses_.size() && i < history.size(); ++i) {
+    if (!(keyframe_poses_[i].translation() == history[i].translation()) ||
+        keyframe_poses_[i].rotation() != history[i].rotation()) {
+      changed = true;
+      break;
+    }
+  }
+  keyframe_poses_ = std::move(history);
+  submaps_.SetPoses(keyframe_poses_);
+  tracker_.Rebuild(keyframe_poses_);
+  if (!changed) return;
+  ++revision_;
+  for (size_t i = 0; i < anchors_.size(); ++i) {
+    const ScanAnchor& anchor = anchors_[i];
+    if (anchor.keyframe < keyframe_poses_.size()) {
+      trajectory_[i].pose = keyframe_poses_[anchor.keyframe] * anchor.offset;
+    }
+  }
+}
+
+std::string ParticleSlam::Statistics() const {
+  std::ostringstream out;
+  out << options_.name << ": " << trajectory_.size() << " scans, " << keyframe_poses_.size() << " keyframes, "
+      << filter_.particles().size() << " particles, " << filter_.resamplings() << " resamplings, "
+      << filter_.proposal_fallbacks() << " proposal fallbacks to the motion model, " << tracking_failures_
+      << " scans carried by odometry, " << revision_ << " trajectory revisions; map tiles "
+      << filter_.UniqueTileBytes() / (1024 * 1024) << " MiB unique of "
+      << filter_.TotalTileBytes() / (1024 * 1024) << " MiB referenced";
+  return out.str();
+}
+
+}  // namespace fleetmap

@@ -1,0 +1,101 @@
+#ifndef FLEETMAP_ROBOT_AGENT_SLAM_PARTICLE_SLAM_H_
+#define FLEETMAP_ROBOT_AGENT_SLAM_PARTICLE_SLAM_H_
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "robot_agent/slam/local_slam.h"
+#include "robot_agent/slam/odometry_buffer.h"
+#include "robot_agent/slam/particle_filter.h"
+#include "robot_agent/slam/particle_submaps.h"
+#include "robot_agent/slam/particle_tracker.h"
+#include "robot_agent/slam/thread_pool.h"
+
+namespace fleetmap {
+
+struct ParticleSlamOptions {
+  std::string name = "rbpf";
+  std::string robot_id = "robot";
+  ParticleFilterOptions filter;
+  // Returns farther than this are left out of matching; beams are traced at most this far.
+  float max_range = 20.0f;
+  // Matching and weighting use one point per voxel of this size (metres).
+  float match_voxel = 0.1f;
+  // A filter update (keyframe) runs when the robot moved this far (metres / radians).
+  double update_translation = 1.0;
+  double update_rotation = 0.5;
+  // Motion input to the filter: raw odometry (false) or the per-scan scan-matched motion
+  // (true: the paper's remedy for FastSLAM's particle depletion).
+  bool scan_matched_motion = false;
+  // Every scan is matched against the best particle's map from the odometry prediction, so
+  // scans between updates get corrected poses too: first against its latest keyframes
+  // (tracker), then, when that fails, against its whole grid (tracking).
+  ParticleTrackerOptions tracker;
+  float tracker_voxel = 0.05f;
+  ParticleMatcherOptions tracking;
+  // Worker threads for the per-particle work (results do not depend on it).
+  int threads = 2;
+  int keyframes_per_submap = 10;
+  OccupancyGridOptions submap_grid;
+
+  // Grid FastSLAM (motion-model proposal, resampling at every update) and the RBPF with
+  // improved proposal and selective resampling (GMapping-like defaults).
+  static ParticleSlamOptions FastSlam();
+  static ParticleSlamOptions Rbpf();
+};
+
+// Local SLAM by a Rao-Blackwellized particle filter: grid FastSLAM or the improved-proposal
+// RBPF, by options. The reported trajectory and submaps are the best particle's; every scan's
+// pose is stored relative to its keyframe, so a resampling that changes the best particle's
+// history revises the whole trajectory (trajectory_revision() grows).
+class ParticleSlam : public LocalSlam {
+ public:
+  explicit ParticleSlam(const ParticleSlamOptions& options);
+
+  bool AddOdometry(const StampedPose& odometry, std::string* error) override;
+  bool AddScan(const LaserScan& scan, std::string* error) override;
+  Rigid2d CurrentPose() const override { return current_pose_; }
+  const Trajectory& trajectory() const override { return trajectory_; }
+  int64_t trajectory_revision() const override { return revision_; }
+  std::vector<Submap> TakeSubmapUpdates() override { return submaps_.TakeUpdates(); }
+  void Finish() override { submaps_.Finish(); }
+  std::string Statistics() const override;
+
+  const ParticleFilter& filter() const { return filter_; }
+
+ private:
+  bool CheckTime(double timestamp, const char* what, std::string* error);
+  ParticleScan Prepare(const LaserScan& scan, LaserScan* limited,
+                       std::vector<Eigen::Vector2f>* tracker_points) const;
+  void AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points);
+  void RefreshBestHistory();
+
+  struct ScanAnchor {
+    size_t keyframe = 0;
+    Rigid2d offset;  // the scan's pose in the keyframe's frame
+  };
+
+  const ParticleSlamOptions options_;
+  std::unique_ptr<ThreadPool> pool_;
+  ParticleFilter filter_;
+  OdometryBuffer odometry_;
+  ParticleSubmaps submaps_;
+  ParticleTracker tracker_;
+  Trajectory trajectory_;
+  std::vector<ScanAnchor> anchors_;
+  std::vector<Rigid2d> keyframe_poses_;  // the best particle's
+  Rigid2d current_pose_;
+  Rigid2d odometry_since_update_;
+  std::optional<Rigid2d> last_odometry_;
+  double last_time_ = -1e300;
+  int64_t revision_ = 0;
+  int64_t tracked_ = 0;
+  int64_t tracking_failures_ = 0;
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_ROBOT_AGENT_SLAM_PARTICLE_SLAM_H_

@@ -1,0 +1,227 @@
+#include "robot_agent/slam/scan_matching_slam.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "robot_agent/slam/degeneracy.h"
+#include "shared/matching/point_filter.h"
+
+namespace fleetmap {
+
+ScanMatcherOptions ScanMatchingSlamOptions::DefaultMatcherOptions() {
+  ScanMatcherOptions options;
+  options.search.linear_window = 0.2;
+  options.search.angular_window = 0.12;
+  options.search.angular_step = 0.01;
+  options.refinement.prior_translation_sigma = 0.2;
+  options.refinement.prior_rotation_sigma = 0.1;
+  options.min_score = 0.35;
+  return options;
+}
+
+CorrelativeSearchOptions ScanMatchingSlamOptions::NoOdometrySearchOptions() {
+  CorrelativeSearchOptions options;
+  options.linear_window = 0.3;
+  options.angular_window = 0.3;
+  options.angular_step = 0.01;
+  return options;
+}
+
+ScanMatchingSlam::ScanMatchingSlam(const ScanMatchingSlamOptions& options)
+    : options_(options),
+      local_map_(options.local_map),
+      submaps_(options.robot_id, options.submaps),
+      loop_closure_(options.loop_closure) {}
+
+bool ScanMatchingSlam::CheckTime(double timestamp, const char* what, std::string* error) {
+  if (!std::isfinite(timestamp)) {
+    if (error) *error = std::string(what) + " with a non-finite timestamp";
+    return false;
+  }
+  if (timestamp < last_time_) {
+    std::ostringstream message;
+    message.precision(17);
+    message << what << " at time " << timestamp << " is older than the previous input (time "
+            << last_time_ << "): inputs must come in time order";
+    if (error) *error = message.str();
+    return false;
+  }
+  return true;
+}
+
+bool ScanMatchingSlam::AddOdometry(const StampedPose& odometry, std::string* error) {
+  if (!CheckTime(odometry.timestamp, "odometry", error)) return false;
+  if (!odometry_.Add(odometry, error)) return false;
+  last_time_ = odometry.timestamp;
+  return true;
+}
+
+bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
+  if (!CheckTime(scan.timestamp, "scan", error)) return false;
+  if (!scan.sensor_in_robot.IsFinite()) {
+    if (error) *error = "scan with a non-finite sensor mounting pose";
+    return false;
+  }
+  last_time_ = scan.timestamp;
+  ++counters_.scans;
+
+  const std::optional<Rigid2d> odometry = odometry_.PoseAt(scan.timestamp);
+  Rigid2d predicted = current_pose_;
+  if (odometry && last_odometry_) predicted = current_pose_ * (last_odometry_->inverse() * *odometry);
+  if (odometry) last_odometry_ = odometry;
+
+  std::vector<Eigen::Vector2f> points = RangeFilter(ToPointsInRobotFrame(scan), options_.max_range);
+  if (points.empty()) ++counters_.no_return_scans;
+  Rigid2d pose = predicted;
+  const std::vector<Eigen::Vector2f> filtered = VoxelFilter(points, options_.voxel_size);
+  if (!points.empty() && !local_map_.target().empty()) pose = Match(filtered, predicted, points);
+  current_pose_ = pose;
+  local_poses_.push_back(pose);
+  trajectory_.push_back({scan.timestamp, loop_closure_.CorrectionAt(scan.timestamp) * pose});
+
+  if (!points.empty() && ShouldInsert(pose, scan.timestamp)) {
+    local_map_.Insert(points, pose);
+    LaserScan limited = scan;
+    for (float& range : limited.ranges) {
+      if (range > options_.max_range) range = LaserScan::kNoReturn;
+    }
+    const std::optional<SubmapBuilder::Insertion> insertion = submaps_.Insert(limited, pose);
+    if (insertion && loop_closure_.AddNode(scan.timestamp, filtered, pose, insertion->submap_id,
+                                           insertion->submap_in_local)) {
+      ApplyCorrections();
+    }
+    last_inserted_ = StampedPose{scan.timestamp, pose};
+    ++counters_.inserted;
+  }
+  return true;
+}
+
+Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& points,
+                                const Rigid2d& predicted,
+                                const std::vector<Eigen::Vector2f>& beam_points) {
+  const MatchGrid& target = local_map_.target();
+  ScanMatcherOptions options = options_.matcher;
+  std::optional<ScanMatchResult> match;
+  if (odometry_.empty()) {
+    options.search = options_.no_odometry_search;
+    options.refinement.prior_translation_sigma = 0.0;
+    options.refinement.prior_rotation_sigma = 0.0;
+  } else {
+    options.use_correlative_search = false;
+    match = MatchScan(points, target, nullptr, predicted, predicted, options);
+    options.use_correlative_search = true;
+  }
+  if (!match || match->score < options_.search_below_score) {
+    ++counters_.searched;
+    std::optional<ScanMatchResult> searched = MatchScan(points, target, nullptr, predicted, predicted, options);
+    if (searched && (!match || searched->score > match->score)) match = searched;
+  }
+  if (!match) {
+    ++counters_.failed;
+    return predicted;
+  }
+  ++counters_.matched;
+  if (options_.min_observed_normals > 0.0 && !odometry_.empty()) {
+    const Rigid2d kept = KeepObservedDirections(predicted, match->pose, NormalScatter(beam_points),
+                                                options_.min_observed_normals);
+    if ((kept.translation() - match->pose.translation()).norm() > 1e-9) ++counters_.degenerate;
+    return kept;
+  }
+  return match->pose;
+}
+
+Rigid2d ScanMatchingSlam::CurrentPose() const {
+  return trajectory_.empty() ? Rigid2d() : trajectory_.back().pose;
+}
+
+void ScanMatchingSlam::Finish() {
+  submaps_.FinishActive();
+  if (loop_closure_.Finish()) ApplyCorrections();
+}
+
+void ScanMatchingSlam::ApplyCorrections() {
+  for (size_t i = 0; i < trajectory_.size(); ++i) {
+    trajectory_[i].pose = loop_closure_.CorrectionAt(trajectory_[i].timestamp) * local_poses_[i];
+  }
+  ++revision_;
+  submaps_moved_ = true;
+}
+
+void ScanMatchingSlam::ToCorrected(const Rigid2d& local_anchor, const Trajectory& local_poses,
+                                   Submap* submap) const {
+  const std::optional<Rigid2d> anchor = loop_closure_.SubmapInGlobal(submap->submap_id);
+  submap->submap_in_local =
+      anchor ? *anchor
+             : loop_closure_.CorrectionAt(local_poses.empty() ? 0.0 : local_poses.front().timestamp) *
+                   local_anchor;
+  for (size_t i = 0; i < local_poses.size(); ++i) {
+    submap->scan_poses[i].pose =
+        loop_closure_.CorrectionAt(local_poses[i].timestamp) * local_poses[i].pose;
+  }
+}
+
+namespace {
+
+// Whether the anchor or any scan pose moved by more than what rounding could explain.
+bool Moved(const Submap& before, const Submap& after) {
+  auto differ = [](const Rigid2d& a, const Rigid2d& b) {
+    const Rigid2d delta = a.inverse() * b;
+    return delta.translation().norm() > 1e-5 || std::abs(delta.rotation()) > 1e-6;
+  };
+  if (differ(before.submap_in_local, after.submap_in_local)) return true;
+  for (size_t i = 0; i < before.scan_poses.size(); ++i) {
+    if (differ(before.scan_poses[i].pose, after.scan_poses[i].pose)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<Submap> ScanMatchingSlam::TakeSubmapUpdates() {
+  std::vector<Submap> updates = submaps_.TakeUpdates();
+  std::vector<int64_t> fresh;
+  for (Submap& submap : updates) {
+    const Rigid2d local_anchor = submap.submap_in_local;
+    const Trajectory local_poses = submap.scan_poses;
+    ToCorrected(local_anchor, local_poses, &submap);
+    if (submap.finished) {
+      published_[submap.submap_id] = Published{local_anchor, local_poses, submap};
+      fresh.push_back(submap.submap_id);
+    }
+  }
+  if (submaps_moved_) {
+    // Finished submaps the graph moved since they were last handed out go out again.
+    for (auto& [id, published] : published_) {
+      if (std::find(fresh.begin(), fresh.end(), id) != fresh.end()) continue;
+      const Submap before = published.submap;
+      ToCorrected(published.local_anchor, published.local_scan_poses, &published.submap);
+      if (!Moved(before, published.submap)) continue;
+      ++published.submap.revision;
+      updates.push_back(published.submap);
+    }
+    submaps_moved_ = false;
+  }
+  return updates;
+}
+
+bool ScanMatchingSlam::ShouldInsert(const Rigid2d& pose, double timestamp) const {
+  if (!last_inserted_) return true;
+  const Rigid2d delta = last_inserted_->pose.inverse() * pose;
+  return delta.translation().norm() >= options_.insert_min_translation ||
+         std::abs(delta.rotation()) >= options_.insert_min_rotation ||
+         timestamp - last_inserted_->timestamp >= options_.insert_max_interval;
+}
+
+std::string ScanMatchingSlam::Statistics() const {
+  std::ostringstream out;
+  out << counters_.scans << " scans: " << counters_.matched << " matched, " << counters_.searched
+      << " needed a correlative search, " << counters_.failed << " carried by odometry, " << counters_.degenerate << " kept odometry along a corridor, "
+      << counters_.no_return_scans << " without returns, " << counters_.inserted
+      << " inserted into the map; loop closure: " << loop_closure_.searches() << " searches, "
+      << loop_closure_.loop_constraints() << " constraints, " << loop_closure_.optimizations()
+      << " optimisations";
+  return out.str();
+}
+
+}  // namespace fleetmap

@@ -1,0 +1,233 @@
+#include "shared/matching/match_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fleetmap {
+namespace {
+
+// Grids grow in whole blocks so a robot driving along an edge does not reallocate per scan.
+constexpr int kGrowthBlock = 64;
+// A grid this large (1 GiB of distances) means corrupt poses, not a real map; refuse to grow.
+constexpr double kMaxCells = 1 << 28;
+
+int FloorToBlock(int v) {
+  return static_cast<int>(std::floor(static_cast<double>(v) / kGrowthBlock)) * kGrowthBlock;
+}
+
+}  // namespace
+
+MatchGrid::MatchGrid(const MatchGridOptions& options)
+    : options_(options),
+      max_squared_(static_cast<float>(options.max_distance * options.max_distance)) {}
+
+MatchGrid MatchGrid::FromLikelihoodField(const LikelihoodField& field, double max_distance) {
+  MatchGridOptions options;
+  options.resolution = field.resolution();
+  options.max_distance = max_distance;
+  MatchGrid grid(options);
+  grid.origin_ = field.origin();
+  grid.width_ = field.width();
+  grid.height_ = field.height();
+  const size_t n = static_cast<size_t>(grid.width_) * static_cast<size_t>(grid.height_);
+  grid.squared_.resize(n);
+  grid.has_point_.assign(n, 0);
+  const float limit = static_cast<float>(max_distance);
+  for (int y = 0; y < grid.height_; ++y) {
+    for (int x = 0; x < grid.width_; ++x) {
+      const size_t i = static_cast<size_t>(y) * static_cast<size_t>(grid.width_) + static_cast<size_t>(x);
+      const float d = std::min(limit, field.CellDistance(x, y));
+      grid.squared_[i] = d * d;
+      if (d == 0.0f && field.has_obstacles()) {
+        grid.has_point_[i] = 1;
+        ++grid.obstacle_count_;
+      }
+    }
+  }
+  return grid;
+}
+
+MatchGrid MatchGrid::FromOccupancyGrid(const OccupancyGrid& occupancy, float occupied_probability,
+                                       const MatchGridOptions& options) {
+  std::vector<Eigen::Vector2d> points;
+  const float threshold = ProbabilityToLogOdds(occupied_probability);
+  const std::vector<float>& cells = occupancy.log_odds();
+  for (int y = 0; y < occupancy.height(); ++y) {
+    for (int x = 0; x < occupancy.width(); ++x) {
+      if (cells[static_cast<size_t>(y) * static_cast<size_t>(occupancy.width()) + static_cast<size_t>(x)] > threshold) {
+        points.push_back(occupancy.CellCenter(CellIndex(x, y)));
+      }
+    }
+  }
+  return FromPoints(points, options);
+}
+
+MatchGrid MatchGrid::FromPoints(const std::vector<Eigen::Vector2d>& points,
+                                const MatchGridOptions& options) {
+  MatchGrid grid(options);
+  if (points.empty()) return grid;
+  Eigen::Vector2d lo = points.front(), hi = points.front();
+  for (const Eigen::Vector2d& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  grid.GrowToInclude(lo, hi);
+  for (const Eigen::Vector2d& p : points) grid.Stamp(p);
+  return grid;
+}
+
+void MatchGrid::AddPoint(const Eigen::Vector2d& point) {
+  if (!point.allFinite()) return;
+  GrowToInclude(point, point);
+  Stamp(point);
+}
+
+void MatchGrid::AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
+                          const Rigid2d& frame_in_map) {
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(points_in_frame.size());
+  for (const Eigen::Vector2f& p : points_in_frame) {
+    const Eigen::Vector2d q = frame_in_map * Eigen::Vector2d(p.cast<double>());
+    if (q.allFinite()) points.push_back(q);
+  }
+  if (points.empty()) return;
+  Eigen::Vector2d lo = points.front(), hi = points.front();
+  for (const Eigen::Vector2d& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  GrowToInclude(lo, hi);
+  for (const Eigen::Vector2d& p : points) Stamp(p);
+}
+
+void MatchGrid::GrowToInclude(const Eigen::Vector2d& min_point, const Eigen::Vector2d& max_point) {
+  // Keep a margin of max_distance so that every stamp lies fully inside the grid.
+  const double r = options_.resolution;
+  const int margin = static_cast<int>(std::ceil(options_.max_distance / r)) + 1;
+  const Eigen::Vector2d extent = (max_point - min_point) / r;
+  if (!extent.allFinite() || (extent.x() + 2 * margin) * (extent.y() + 2 * margin) > kMaxCells ||
+      ((min_point - origin_).cwiseAbs().maxCoeff() / r > 1e8) ||
+      ((max_point - origin_).cwiseAbs().maxCoeff() / r > 1e8)) {
+    return;
+  }
+  auto cell_of = [&](const Eigen::Vector2d& p) {
+    return Eigen::Array2i(static_cast<int>(std::floor((p.x() - origin_.x()) / r)),
+                          static_cast<int>(std::floor((p.y() - origin_.y()) / r)));
+  };
+  Eigen::Array2i lo = cell_of(min_point) - margin;
+  Eigen::Array2i hi = cell_of(max_point) + margin + 1;  // exclusive
+  if (width_ > 0 && lo.x() >= 0 && lo.y() >= 0 && hi.x() <= width_ && hi.y() <= height_) return;
+  if (width_ > 0) {
+    lo = lo.min(Eigen::Array2i(0, 0));
+    hi = hi.max(Eigen::Array2i(width_, height_));
+  }
+  lo = Eigen::Array2i(FloorToBlock(lo.x()), FloorToBlock(lo.y()));
+  hi = Eigen::Array2i(FloorToBlock(hi.x() + kGrowthBlock - 1), FloorToBlock(hi.y() + kGrowthBlock - 1));
+  const int new_width = hi.x() - lo.x();
+  const int new_height = hi.y() - lo.y();
+  if (static_cast<double>(new_width) * new_height > kMaxCells) return;
+  const size_t n = static_cast<size_t>(new_width) * static_cast<size_t>(new_height);
+  std::vector<float> squared(n, max_squared_);
+  std::vector<uint8_t> has_point(n, 0);
+  for (int y = 0; y < height_; ++y) {
+    const size_t src = static_cast<size_t>(y) * static_cast<size_t>(width_);
+    const size_t dst = static_cast<size_t>(y - lo.y()) * static_cast<size_t>(new_width) +
+                       static_cast<size_t>(-lo.x());
+    std::copy_n(squared_.begin() + static_cast<long>(src), width_, squared.begin() + static_cast<long>(dst));
+    std::copy_n(has_point_.begin() + static_cast<long>(src), width_, has_point.begin() + static_cast<long>(dst));
+  }
+  origin_ += r * lo.cast<double>().matrix();
+  width_ = new_width;
+  height_ = new_height;
+  squared_ = std::move(squared);
+  has_point_ = std::move(has_point);
+}
+
+void MatchGrid::Stamp(const Eigen::Vector2d& point) {
+  const double r = options_.resolution;
+  const double gx = (point.x() - origin_.x()) / r;
+  const double gy = (point.y() - origin_.y()) / r;
+  if (!(gx >= 0.0 && gy >= 0.0 && gx < width_ && gy < height_)) return;  // not after growing
+  const int cx = static_cast<int>(gx);
+  const int cy = static_cast<int>(gy);
+  uint8_t& seen = has_point_[static_cast<size_t>(cy) * static_cast<size_t>(width_) + static_cast<size_t>(cx)];
+  if (seen) return;
+  seen = 1;
+  ++obstacle_count_;
+  const int radius = static_cast<int>(std::ceil(options_.max_distance / r));
+  const int x0 = std::max(0, cx - radius), x1 = std::min(width_ - 1, cx + radius);
+  const int y0 = std::max(0, cy - radius), y1 = std::min(height_ - 1, cy + radius);
+  for (int y = y0; y <= y1; ++y) {
+    const float dy = static_cast<float>((y + 0.5 - gy) * r);
+    float* row = squared_.data() + static_cast<size_t>(y) * static_cast<size_t>(width_);
+    for (int x = x0; x <= x1; ++x) {
+      const float dx = static_cast<float>((x + 0.5 - gx) * r);
+      const float d2 = dx * dx + dy * dy;
+      if (d2 < row[x]) row[x] = d2;
+    }
+  }
+}
+
+namespace {
+
+// Catmull-Rom weights for the four samples around t in [0, 1), with first and second derivatives.
+// Catmull-Rom reproduces quadratics exactly, which is why the grid stores squared distances.
+void CubicWeights(double t, double w[4], double dw[4], double ddw[4]) {
+  const double t2 = t * t, t3 = t2 * t;
+  w[0] = 0.5 * (-t3 + 2.0 * t2 - t);
+  w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
+  w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
+  w[3] = 0.5 * (t3 - t2);
+  dw[0] = 0.5 * (-3.0 * t2 + 4.0 * t - 1.0);
+  dw[1] = 0.5 * (9.0 * t2 - 10.0 * t);
+  dw[2] = 0.5 * (-9.0 * t2 + 8.0 * t + 1.0);
+  dw[3] = 0.5 * (3.0 * t2 - 2.0 * t);
+  ddw[0] = -3.0 * t + 2.0;
+  ddw[1] = 9.0 * t - 5.0;
+  ddw[2] = -9.0 * t + 4.0;
+  ddw[3] = 3.0 * t - 1.0;
+}
+
+}  // namespace
+
+double MatchGrid::SquaredDistance(const Eigen::Vector2d& point, Eigen::Vector2d* gradient,
+                                  Eigen::Matrix2d* hessian) const {
+  // Cell centres are at half-integer grid coordinates.
+  const double r = options_.resolution;
+  const double gx = (point.x() - origin_.x()) / r - 0.5;
+  const double gy = (point.y() - origin_.y()) / r - 0.5;
+  // Written so that NaN and huge coordinates fail the test before any integer conversion.
+  if (!(gx >= 1.0 && gy >= 1.0 && gx < width_ - 2 && gy < height_ - 2)) {
+    if (gradient != nullptr) gradient->setZero();
+    if (hessian != nullptr) hessian->setZero();
+    return max_squared_;
+  }
+  const double fx = std::floor(gx), fy = std::floor(gy);
+  const int x0 = static_cast<int>(fx) - 1, y0 = static_cast<int>(fy) - 1;
+  double wx[4], dwx[4], ddwx[4], wy[4], dwy[4], ddwy[4];
+  CubicWeights(gx - fx, wx, dwx, ddwx);
+  CubicWeights(gy - fy, wy, dwy, ddwy);
+  double value = 0.0, dx = 0.0, dy = 0.0, dxx = 0.0, dxy = 0.0, dyy = 0.0;
+  for (int j = 0; j < 4; ++j) {
+    const float* row = squared_.data() + static_cast<size_t>(y0 + j) * static_cast<size_t>(width_) +
+                       static_cast<size_t>(x0);
+    const double v = wx[0] * row[0] + wx[1] * row[1] + wx[2] * row[2] + wx[3] * row[3];
+    const double vx = dwx[0] * row[0] + dwx[1] * row[1] + dwx[2] * row[2] + dwx[3] * row[3];
+    const double vxx = ddwx[0] * row[0] + ddwx[1] * row[1] + ddwx[2] * row[2] + ddwx[3] * row[3];
+    value += wy[j] * v;
+    dx += wy[j] * vx;
+    dy += dwy[j] * v;
+    dxx += wy[j] * vxx;
+    dxy += dwy[j] * vx;
+    dyy += ddwy[j] * v;
+  }
+  if (gradient != nullptr) *gradient = Eigen::Vector2d(dx, dy) / r;
+  if (hessian != nullptr) *hessian << dxx / (r * r), dxy / (r * r), dxy / (r * r), dyy / (r * r);
+  return value;
+}
+
+double MatchGrid::Distance(const Eigen::Vector2d& point) const {
+  return std::sqrt(std::max(0.0, SquaredDistance(point)));
+}
+
+}  // namespace fleetmap

@@ -1,0 +1,86 @@
+#ifndef FLEETMAP_SHARED_MATCHING_MATCH_GRID_H_
+#define FLEETMAP_SHARED_MATCHING_MATCH_GRID_H_
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "shared/core/likelihood_field.h"
+#include "shared/core/occupancy_grid.h"
+#include "shared/core/rigid2d.h"
+
+namespace fleetmap {
+
+struct MatchGridOptions {
+  double resolution = 0.05;  // metres per cell
+  // Distances are clamped here; it is also how far around each obstacle point the grid is
+  // updated, so it bounds the cost of adding a point and the basin of the refinement.
+  double max_distance = 0.3;
+};
+
+// The target a scan is matched against: for every cell centre, the squared distance (m^2,
+// clamped at max_distance^2) to the nearest obstacle point. Squared, because near a wall it is a
+// quadratic that bicubic interpolation reproduces exactly, so the interpolated field has its
+// minimum exactly on the wall and a well-defined curvature there (a distance cone has neither). Unlike the core LikelihoodField it can grow
+// incrementally: adding a point only touches the cells within max_distance of it, which is what
+// makes a rolling local map affordable at every scan. Distances are exact to the points added
+// (not to cell centres), so sub-cell wall positions survive.
+class MatchGrid {
+ public:
+  explicit MatchGrid(const MatchGridOptions& options = MatchGridOptions());
+  // Copies an existing distance field (its distances are clamped at `max_distance`).
+  static MatchGrid FromLikelihoodField(const LikelihoodField& field, double max_distance);
+  // Obstacles are the centres of cells more likely occupied than `occupied_probability`.
+  static MatchGrid FromOccupancyGrid(const OccupancyGrid& grid, float occupied_probability,
+                                     const MatchGridOptions& options);
+  static MatchGrid FromPoints(const std::vector<Eigen::Vector2d>& points,
+                              const MatchGridOptions& options);
+
+  double resolution() const { return options_.resolution; }
+  double max_distance() const { return options_.max_distance; }
+  const Eigen::Vector2d& origin() const { return origin_; }  // lower-left corner of cell (0, 0)
+  int width() const { return width_; }
+  int height() const { return height_; }
+  bool empty() const { return obstacle_count_ == 0; }
+  int64_t obstacle_count() const { return obstacle_count_; }
+
+  // Adds obstacle points (map frame). The first point that falls in a cell represents it; later
+  // points in the same cell are ignored, so re-observing a wall costs almost nothing.
+  void AddPoint(const Eigen::Vector2d& point);
+  // Adds `points_in_frame` transformed by `frame_in_map`; grows the grid once for all of them.
+  void AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame, const Rigid2d& frame_in_map);
+
+  double max_squared_distance() const { return options_.max_distance * options_.max_distance; }
+  // Squared distance at a cell centre; max_distance^2 outside the grid.
+  float CellSquaredDistance(int x, int y) const {
+    if (x < 0 || y < 0 || x >= width_ || y >= height_) return max_squared_;
+    return squared_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)];
+  }
+  // Bicubic (Catmull-Rom) interpolation of the squared distance, with its gradient and Hessian
+  // (either may be null). Outside the grid: max_distance^2 and zero derivatives.
+  double SquaredDistance(const Eigen::Vector2d& point, Eigen::Vector2d* gradient = nullptr,
+                         Eigen::Matrix2d* hessian = nullptr) const;
+  // Interpolated distance (metres).
+  double Distance(const Eigen::Vector2d& point) const;
+
+  // Row-major squared distances, index = y * width + x.
+  const std::vector<float>& squared_distances() const { return squared_; }
+
+ private:
+  void GrowToInclude(const Eigen::Vector2d& min, const Eigen::Vector2d& max);
+  void Stamp(const Eigen::Vector2d& point);
+
+  MatchGridOptions options_;
+  Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
+  int width_ = 0;
+  int height_ = 0;
+  int64_t obstacle_count_ = 0;
+  float max_squared_ = 0.0f;
+  std::vector<float> squared_;
+  std::vector<uint8_t> has_point_;  // 1 where a cell already holds an obstacle point
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_SHARED_MATCHING_MATCH_GRID_H_

@@ -1,0 +1,123 @@
+#include "shared/matching/match_grid.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "shared/core/likelihood_field.h"
+#include "shared/matching/match_grid_pyramid.h"
+
+namespace fleetmap {
+namespace {
+
+TEST(MatchGridTest, EmptyGridReadsMaxDistanceEverywhere) {
+  MatchGrid grid;
+  EXPECT_TRUE(grid.empty());
+  EXPECT_NEAR(grid.Distance(Eigen::Vector2d(1.0, 2.0)), grid.max_distance(), 1e-6);
+  Eigen::Vector2d gradient;
+  EXPECT_NEAR(grid.SquaredDistance(Eigen::Vector2d(NAN, 0.0), &gradient), grid.max_squared_distance(), 1e-6);
+  EXPECT_EQ(gradient, Eigen::Vector2d::Zero());
+}
+
+TEST(MatchGridTest, DistancesAreExactToThePointsAtCellCentres) {
+  MatchGridOptions options;
+  options.resolution = 0.05;
+  options.max_distance = 0.5;
+  MatchGrid grid(options);
+  const Eigen::Vector2d point(1.013, -0.321);
+  grid.AddPoint(point);
+  ASSERT_FALSE(grid.empty());
+  for (int y = 0; y < grid.height(); ++y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      const Eigen::Vector2d centre =
+          grid.origin() + options.resolution * Eigen::Vector2d(x + 0.5, y + 0.5);
+      const double expected = std::min(options.max_distance, (centre - point).norm());
+      ASSERT_NEAR(grid.CellSquaredDistance(x, y), expected * expected, 1e-5) << x << " " << y;
+    }
+  }
+}
+
+// Near a straight wall the squared distance is a quadratic, which the bicubic interpolation
+// reproduces: zero exactly on the wall wherever it sits relative to the cells, with curvature 2
+// across it. (Wall points sit at cell-centre x so that "one point per cell" keeps them exact.)
+TEST(MatchGridTest, InterpolationIsExactNearAStraightWall) {
+  for (double wall_y : {1.0, 1.0125, 1.025, 1.04}) {
+    std::vector<Eigen::Vector2d> points;
+    for (int i = -40; i <= 40; ++i) points.emplace_back(0.025 + 0.05 * i, wall_y);
+    const MatchGrid grid = MatchGrid::FromPoints(points, MatchGridOptions());
+    for (double offset : {-0.07, -0.031, 0.0, 0.013, 0.06}) {
+      Eigen::Vector2d gradient;
+      Eigen::Matrix2d hessian;
+      const double f = grid.SquaredDistance(Eigen::Vector2d(0.123, wall_y + offset), &gradient, &hessian);
+      EXPECT_NEAR(f, offset * offset, 2e-5) << wall_y << " " << offset;
+      EXPECT_NEAR(gradient.y(), 2.0 * offset, 2e-3);
+      EXPECT_NEAR(hessian(1, 1), 2.0, 0.05);
+      EXPECT_NEAR(hessian(0, 0), 0.0, 0.05);
+    }
+  }
+}
+
+TEST(MatchGridTest, GrowingKeepsEarlierPoints) {
+  MatchGrid grid;
+  grid.AddPoint(Eigen::Vector2d(0.0, 0.0));
+  grid.AddPoint(Eigen::Vector2d(40.0, -30.0));  // forces a large growth
+  EXPECT_EQ(grid.obstacle_count(), 2);
+  EXPECT_LT(grid.Distance(Eigen::Vector2d(0.0, 0.0)), 0.04);
+  EXPECT_LT(grid.Distance(Eigen::Vector2d(40.0, -30.0)), 0.04);
+  EXPECT_NEAR(grid.Distance(Eigen::Vector2d(0.1, 0.0)), 0.1, 0.03);
+}
+
+TEST(MatchGridTest, AbsurdPointsAreIgnoredNotAllocated) {
+  MatchGrid grid;
+  grid.AddPoint(Eigen::Vector2d(0.0, 0.0));
+  grid.AddPoint(Eigen::Vector2d(1e12, 1e12));
+  grid.AddPoint(Eigen::Vector2d(INFINITY, 0.0));
+  EXPECT_EQ(grid.obstacle_count(), 1);
+  EXPECT_LT(grid.width(), 1000);
+}
+
+TEST(MatchGridTest, AgreesWithTheCoreLikelihoodField) {
+  std::vector<Eigen::Vector2d> points;
+  for (double x = 0.0; x <= 3.0; x += 0.05) points.emplace_back(x + 0.025, 1.025);
+  LikelihoodFieldOptions field_options;
+  field_options.max_distance = 0.4;
+  const LikelihoodField field(points, 0.05, field_options);
+  const MatchGrid from_field = MatchGrid::FromLikelihoodField(field, 0.4);
+  MatchGridOptions options;
+  options.max_distance = 0.4;
+  const MatchGrid from_points = MatchGrid::FromPoints(points, options);
+  for (double x = 0.2; x < 2.8; x += 0.13) {
+    for (double y = 0.7; y < 1.3; y += 0.07) {
+      const Eigen::Vector2d p(x, y);
+      EXPECT_NEAR(from_field.Distance(p), from_points.Distance(p), 0.01) << p.transpose();
+    }
+  }
+}
+
+TEST(MatchGridPyramidTest, EveryLevelBoundsItsBlock) {
+  MatchGridOptions options;
+  options.max_distance = 0.3;
+  MatchGrid grid(options);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coord(-2.0, 2.0);
+  for (int i = 0; i < 40; ++i) grid.AddPoint(Eigen::Vector2d(coord(rng), coord(rng)));
+  const MatchGridPyramid pyramid(grid, 5);
+  ASSERT_EQ(pyramid.levels(), 5);
+  const MatchGridPyramid base_only(grid, 1);
+  for (int level = 0; level < 5; ++level) {
+    const int k = 1 << level;
+    for (int y = -k; y < grid.height(); y += 3) {
+      for (int x = -k; x < grid.width(); x += 3) {
+        int best = 0;
+        for (int by = y; by < y + k; ++by) {
+          for (int bx = x; bx < x + k; ++bx) best = std::max(best, base_only.BlockScore(0, bx, by));
+        }
+        ASSERT_EQ(pyramid.BlockScore(level, x, y), best) << level << " " << x << " " << y;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fleetmap

@@ -1,0 +1,121 @@
+#include "shared/matching/scan_matcher.h"
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include "shared/matching/point_filter.h"
+#include "tests/matching/matching_worlds.h"
+#include "tests/support/test_support.h"
+
+namespace fleetmap {
+namespace {
+
+using testing::IsNearPose;
+
+constexpr double kDegree = M_PI / 180.0;
+
+ScanMatcherOptions WideOptions() {
+  ScanMatcherOptions options;
+  options.search.linear_window = 0.4;
+  options.search.angular_window = 12.0 * kDegree;
+  // The prior must not pull a good match: the guess is deliberately far off here.
+  options.refinement.prior_translation_sigma = 0.0;
+  options.refinement.prior_rotation_sigma = 0.0;
+  return options;
+}
+
+class ScanMatcherTest : public ::testing::TestWithParam<Rigid2d> {
+ protected:
+  const testing::SegmentWorld world_ = testing::FurnishedRoom();
+  const MatchGrid grid_ = testing::WorldGrid(world_);
+};
+
+TEST_P(ScanMatcherTest, RecoversKnownOffsetWithBranchAndBound) {
+  for (const Rigid2d& truth : {Rigid2d(0.4, -0.7, 0.3), Rigid2d(-2.0, 1.5, -2.0), Rigid2d(3.0, 2.0, 2.6)}) {
+    const std::vector<Eigen::Vector2f> points = ToPointsInRobotFrame(testing::SimulateScan(world_, truth));
+    const Rigid2d guess = truth * GetParam();
+    const MatchGridPyramid pyramid(grid_);
+    const auto match = MatchScan(points, grid_, &pyramid, guess, guess, WideOptions());
+    ASSERT_TRUE(match.has_value()) << truth;
+    EXPECT_THAT(match->pose, IsNearPose(truth, 0.01, 0.2 * kDegree)) << truth;
+    EXPECT_GT(match->score, 0.8);
+    EXPECT_GT(match->inlier_fraction, 0.95);
+  }
+}
+
+TEST_P(ScanMatcherTest, RecoversKnownOffsetWithBruteForce) {
+  const Rigid2d truth(0.4, -0.7, 0.3);
+  const std::vector<Eigen::Vector2f> points =
+      VoxelFilter(ToPointsInRobotFrame(testing::SimulateScan(world_, truth)), 0.1f);
+  const Rigid2d guess = truth * GetParam();
+  const auto match = MatchScan(points, grid_, nullptr, guess, guess, WideOptions());
+  ASSERT_TRUE(match.has_value());
+  EXPECT_THAT(match->pose, IsNearPose(truth, 0.01, 0.2 * kDegree));
+}
+
+INSTANTIATE_TEST_SUITE_P(Guesses, ScanMatcherTest,
+                         ::testing::Values(Rigid2d(0.3, 0.0, 0.0), Rigid2d(-0.3, 0.3, 0.0),
+                                           Rigid2d(0.0, 0.0, 10.0 * kDegree),
+                                           Rigid2d(0.3, -0.3, -10.0 * kDegree),
+                                           Rigid2d(-0.3, -0.3, 10.0 * kDegree),
+                                           Rigid2d(0.0, 0.0, 0.0)));
+
+TEST(ScanMatcherRefinementTest, RefinementAloneConvergesFromAFewCentimetres) {
+  const testing::SegmentWorld world = testing::FurnishedRoom();
+  const MatchGrid grid = testing::WorldGrid(world);
+  const Rigid2d truth(-1.0, 0.5, 1.0);
+  const std::vector<Eigen::Vector2f> points = ToPointsInRobotFrame(testing::SimulateScan(world, truth));
+  ScanMatcherOptions options;
+  options.use_correlative_search = false;
+  const Rigid2d guess = truth * Rigid2d(0.08, -0.06, 2.0 * kDegree);
+  const auto match = MatchScan(points, grid, nullptr, guess, truth, options);
+  ASSERT_TRUE(match.has_value());
+  EXPECT_THAT(match->pose, IsNearPose(truth, 0.01, 0.2 * kDegree));
+}
+
+// Two long parallel walls and nothing else: the scan fixes y and theta but says nothing about x.
+TEST(ScanMatcherCorridorTest, FeaturelessCorridorKeepsThePriorAlongItsAxis) {
+  testing::SegmentWorld corridor = {{Eigen::Vector2d(-50.0, -1.0), Eigen::Vector2d(50.0, -1.0)},
+                                    {Eigen::Vector2d(-50.0, 1.0), Eigen::Vector2d(50.0, 1.0)}};
+  const MatchGrid grid = testing::WorldGrid(corridor);
+  const Rigid2d truth(0.0, 0.2, 0.05);
+  const std::vector<Eigen::Vector2f> points = ToPointsInRobotFrame(testing::SimulateScan(corridor, truth));
+  // Odometry says we are 0.25 m further along; the scan cannot contradict it.
+  const Rigid2d odometry(0.25, 0.3, 0.1);
+  ScanMatcherOptions options;
+  options.search.linear_window = 0.3;
+  options.search.angular_window = 0.1;
+  const auto match = MatchScan(points, grid, nullptr, odometry, odometry, options);
+  ASSERT_TRUE(match.has_value());
+  EXPECT_NEAR(match->pose.x(), odometry.x(), 0.03);  // stays put along the axis
+  EXPECT_NEAR(match->pose.y(), truth.y(), 0.01);     // corrected across it
+  EXPECT_NEAR(match->pose.rotation(), truth.rotation(), 0.2 * kDegree);
+  // Low confidence along the axis: the variance there is dominated by the prior, orders of
+  // magnitude above the variance across the corridor.
+  EXPECT_GT(match->covariance(0, 0), 100.0 * match->covariance(1, 1));
+  EXPECT_NEAR(std::sqrt(match->covariance(0, 0)), options.refinement.prior_translation_sigma, 0.05);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> info(match->scan_information);
+  EXPECT_LT(info.eigenvalues()(0), 1e-3 * info.eigenvalues()(2));
+}
+
+TEST(ScanMatcherBadInputTest, NoPointsOrEmptyGridGiveNoMatch) {
+  const MatchGrid grid = testing::WorldGrid(testing::FurnishedRoom());
+  ScanMatcherOptions options;
+  EXPECT_FALSE(MatchScan({}, grid, nullptr, Rigid2d(), Rigid2d(), options));
+  EXPECT_FALSE(MatchScan({Eigen::Vector2f(1.0f, 1.0f)}, MatchGrid(), nullptr, Rigid2d(), Rigid2d(), options));
+  EXPECT_FALSE(MatchScan({Eigen::Vector2f(1.0f, 1.0f)}, grid, nullptr, Rigid2d(INFINITY, 0, 0), Rigid2d(), options));
+}
+
+TEST(PointFilterTest, VoxelFilterKeepsOnePointPerCell) {
+  const std::vector<Eigen::Vector2f> points = {{0.01f, 0.01f}, {0.02f, 0.03f}, {0.2f, 0.0f},
+                                               {-0.01f, 0.0f}, {NAN, 0.0f}};
+  const std::vector<Eigen::Vector2f> kept = VoxelFilter(points, 0.1f);
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_EQ(kept[0], points[0]);
+  EXPECT_EQ(kept[1], points[2]);
+  EXPECT_EQ(kept[2], points[3]);
+  EXPECT_EQ(RangeFilter(points, 0.1f).size(), 3u);
+}
+
+}  // namespace
+}  // namespace fleetmap

@@ -1,0 +1,83 @@
+#include "map_server/merge/match_target.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/merge/merge_test_worlds.h"
+#include "tests/support/test_support.h"
+
+namespace fleetmap {
+namespace {
+
+using testing::IsNearPose;
+
+class MatchTargetTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    world_ = testing::OfficeWorld();
+    // The target robot explored the left two rooms; its frame is the world frame.
+    target_grid_ = testing::GridFromScans(
+        world_, {Rigid2d(3.5, 6, 0), Rigid2d(5, 3, 0), Rigid2d(10, 6, 0), Rigid2d(10, 10, 0),
+                 Rigid2d(10, 1.5, 0)},
+        Rigid2d());
+  }
+  testing::SegmentWorld world_;
+  OccupancyGrid target_grid_;
+  MatchTargetOptions options_;
+};
+
+// The source submap saw the middle room from a frame at any heading; global search (whole map,
+// full circle) must recover the frame within 3 cm and 0.3 degrees.
+TEST_F(MatchTargetTest, GlobalSearchRecoversAnyHeading) {
+  const MatchTarget target(target_grid_, options_);
+  for (double heading : {-M_PI, -2.5, -1.2, -0.3, 0.0, 0.7, 1.9, 3.0}) {
+    const Rigid2d source_in_world(9.7, 5.6, heading);
+    const OccupancyGrid source_grid = testing::GridFromScans(
+        world_, {Rigid2d(9.5, 5.5, 0.3), Rigid2d(10.5, 6.5, 0.3)}, source_in_world);
+    const MatchSource source = MakeMatchSource(source_grid, Rigid2d(), options_);
+    SearchWindow window;
+    window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
+    window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());
+    window.angular_half_extent = M_PI;
+    const MatchResult result = target.Match(source, window, MatchGates());
+    EXPECT_TRUE(result.accepted) << result.reason;
+    EXPECT_THAT(result.pose, IsNearPose(source_in_world, 0.03, 0.3 * M_PI / 180))
+        << "heading " << heading << ": " << result.reason;
+  }
+}
+
+// A wrong prior window that does not contain the true pose must not produce an accepted match.
+TEST_F(MatchTargetTest, WrongWindowIsNotAccepted) {
+  const MatchTarget target(target_grid_, options_);
+  const Rigid2d source_in_world(9.7, 5.6, 1.0);
+  const OccupancyGrid source_grid =
+      testing::GridFromScans(world_, {Rigid2d(9.5, 5.5, 0.3)}, source_in_world);
+  const MatchSource source = MakeMatchSource(source_grid, Rigid2d(), options_);
+  SearchWindow window;
+  window.center = Rigid2d(4.0, 6.0, 1.0);
+  window.linear_half_extent = Eigen::Vector2d(0.5, 0.5);
+  window.angular_half_extent = M_PI;
+  EXPECT_FALSE(target.Match(source, window, MatchGates()).accepted);
+}
+
+// A stretch of straight corridor matches equally well anywhere along the corridor: ambiguous.
+TEST(MatchTargetCorridorTest, CorridorIsAmbiguous) {
+  const testing::SegmentWorld world = testing::CorridorWorld();
+  std::vector<Rigid2d> poses;
+  for (double x = 2; x <= 28; x += 2) poses.emplace_back(x, 1, 0);
+  MatchTargetOptions options;
+  const MatchTarget target(testing::GridFromScans(world, poses, Rigid2d()), options);
+  const Rigid2d source_in_world(14.0, 1.0, 0.4);
+  const OccupancyGrid source_grid =
+      testing::GridFromScans(world, {Rigid2d(13, 1, 0), Rigid2d(15, 1, 0)}, source_in_world);
+  const MatchSource source = MakeMatchSource(source_grid, Rigid2d(), options);
+  SearchWindow window;
+  window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
+  window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());
+  const MatchResult result = target.Match(source, window, MatchGates());
+  EXPECT_TRUE(result.found);
+  EXPECT_FALSE(result.accepted) << result.reason;
+  EXPECT_GT(result.ambiguity, 0.85);
+}
+
+}  // namespace
+}  // namespace fleetmap

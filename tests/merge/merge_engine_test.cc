@@ -1,0 +1,265 @@
+#include "map_server/merge/merge_engine.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "tests/merge/merge_test_worlds.h"
+#include "tests/support/test_support.h"
+
+namespace fleetmap {
+namespace {
+
+using testing::IsNearPose;
+
+constexpr double kDt = 0.5;
+
+struct SimRobot {
+  std::string id;
+  std::vector<Rigid2d> path;  // world poses, one per kDt
+  Rigid2d local_in_world;
+};
+
+// Robot "a" tours the left and middle rooms; "b" tours them the other way round.
+SimRobot RobotA() {
+  return {"a", testing::PathThrough({{2, 6}, {6, 6}, {10, 6}, {10, 10}, {11, 10.5}}, 0.25), Rigid2d(2, 6, 0.3)};
+}
+SimRobot RobotB(double heading) {
+  return {"b", testing::PathThrough({{11, 10}, {10, 6}, {6, 6.3}, {3.5, 5}, {3.5, 8}}, 0.25),
+          Rigid2d(11, 10, heading)};
+}
+
+void Feed(const testing::SegmentWorld& world, const SimRobot& robot, MergeEngine* engine) {
+  for (const Submap& s : testing::MakeSubmaps(robot.id, world, robot.path, robot.local_in_world, 10, kDt)) {
+    std::string error;
+    ASSERT_TRUE(engine->AddOrUpdateSubmap(s, &error)) << error;
+  }
+  ASSERT_TRUE(engine->SetTrajectory(robot.id, testing::MakeTrajectory(robot.path, robot.local_in_world, kDt)));
+}
+
+RobotDetection Detect(const SimRobot& observer, const SimRobot& observed, size_t step, bool heading) {
+  RobotDetection d;
+  d.observer_id = observer.id;
+  d.observed_id = observed.id;
+  d.timestamp = static_cast<double>(step) * kDt;
+  const Rigid2d rel = observer.path[step].inverse() * observed.path[step];
+  d.position_in_observer = rel.translation();
+  d.covariance = Eigen::Matrix2d::Identity() * 0.02 * 0.02;
+  if (heading) {
+    d.relative_heading = rel.rotation();
+    d.relative_heading_variance = 0.02 * 0.02;
+  }
+  return d;
+}
+
+// b's local frame in a's local frame, the truth.
+Rigid2d TrueRelative(const SimRobot& a, const SimRobot& b) { return a.local_in_world.inverse() * b.local_in_world; }
+
+std::optional<Rigid2d> EstimatedRelative(const MergeEngine& engine, const std::string& a, const std::string& b) {
+  const auto ga = engine.RobotToGlobal(a), gb = engine.RobotToGlobal(b);
+  if (!ga || !gb) return std::nullopt;
+  return ga->inverse() * *gb;
+}
+
+int Count(const MergeUpdate& u, AlignmentEventType type) {
+  int n = 0;
+  for (const AlignmentEvent& e : u.events) n += e.type == type;
+  return n;
+}
+
+MergeEngineOptions TestOptions() {
+  MergeEngineOptions options;
+  options.max_global_searches_per_update = 0;  // detections only unless a test wants more
+  return options;
+}
+
+// Two detections (no heading) from robot a of robot b, b's local frame at headings all around
+// the circle: b is placed within 3 cm and 0.3 degrees.
+TEST(MergeEngineTest, DetectionsAlignAnyRelativeHeading) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  for (double heading : {-3.1, -1.0, 2.2}) {
+    MergeEngine engine(TestOptions());
+    const SimRobot a = RobotA(), b = RobotB(heading);
+    Feed(world, a, &engine);
+    Feed(world, b, &engine);
+    ASSERT_TRUE(engine.AddDetection(Detect(a, b, 20, false)));
+    const MergeUpdate update = engine.Update();
+    ASSERT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 1) << "heading " << heading;
+    const auto rel = EstimatedRelative(engine, "a", "b");
+    ASSERT_TRUE(rel);
+    EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180)) << "heading " << heading;
+    EXPECT_EQ(engine.PlacedRobots().size(), 2u);
+  }
+}
+
+// Robots in a long featureless corridor: submap matching alone must not merge them.
+TEST(MergeEngineTest, CorridorDoesNotMergeWithoutDetection) {
+  const testing::SegmentWorld world = testing::CorridorWorld();
+  MergeEngineOptions options;
+  options.max_global_searches_per_update = 100;
+  MergeEngine engine(options);
+  const SimRobot a{"a", testing::PathThrough({{3, 1}, {15, 1}}, 0.25), Rigid2d(3, 1, 0.0)};
+  const SimRobot b{"b", testing::PathThrough({{20, 1}, {8, 1}}, 0.25), Rigid2d(20, 1, 1.0)};
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  for (int i = 0; i < 3; ++i) {
+    const MergeUpdate update = engine.Update();
+    EXPECT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 0);
+  }
+  EXPECT_FALSE(engine.RobotToGlobal("b"));
+  EXPECT_TRUE(engine.RobotToGlobal("a"));
+}
+
+// 20 detections, two of them corrupted (10 %): the corrupted ones are rejected, never used.
+TEST(MergeEngineTest, CorruptedDetectionsAreRejected) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  MergeEngine engine(TestOptions());
+  const SimRobot a = RobotA(), b = RobotB(0.8);
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  std::set<size_t> corrupted;
+  std::mt19937 rng(7);
+  for (size_t k = 0; k < 20; ++k) {
+    const size_t step = 10 + 2 * k;
+    RobotDetection d = Detect(a, b, step, k % 3 == 0);
+    if (k == 0 || k == 12) {  // one before and one after the alignment is found
+      d.position_in_observer += Eigen::Vector2d(1.5, -1.0);
+      corrupted.insert(k);
+    }
+    ASSERT_TRUE(engine.AddDetection(d));
+  }
+  const MergeUpdate update = engine.Update();
+  for (const AlignmentEvent& e : update.events) {
+    if (!e.detection_index || !corrupted.count(*e.detection_index)) continue;
+    EXPECT_TRUE(e.type == AlignmentEventType::kRejected || e.type == AlignmentEventType::kHypothesis)
+        << "corrupted detection " << *e.detection_index << ": " << AlignmentEventTypeName(e.type) << " " << e.reason;
+  }
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
+  EXPECT_LT(engine.Quality().inter_robot_rms_translation, 0.05);
+}
+
+// No detections at all but large overlap: cross-robot matching merges, correctly.
+TEST(MergeEngineTest, CrossMatchingMergesWithoutDetections) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  MergeEngineOptions options;
+  options.max_global_searches_per_update = 100;
+  MergeEngine engine(options);
+  const SimRobot a = RobotA(), b = RobotB(-2.4);
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  const MergeUpdate update = engine.Update();
+  EXPECT_GE(Count(update, AlignmentEventType::kAlignmentAccepted), 1);
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
+}
+
+// A single detection that no other submap can confirm stays a hypothesis; a second, independent
+// detection that agrees turns it into an alignment.
+TEST(MergeEngineTest, SingleDetectionStaysHypothesisUntilConfirmed) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  MergeEngine engine(TestOptions());
+  SimRobot a = RobotA(), b = RobotB(1.7);
+  b.path.resize(10);  // one submap only: nothing else of b to verify with
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  ASSERT_TRUE(engine.AddDetection(Detect(a, b, 2, false)));
+  MergeUpdate update = engine.Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kHypothesis), 1);
+  EXPECT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 0);
+  EXPECT_FALSE(engine.RobotToGlobal("b"));
+  ASSERT_TRUE(engine.AddDetection(Detect(a, b, 8, true)));
+  update = engine.Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 1);
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
+}
+
+// Local SLAM drift (anchors rotate and slide a little more with every submap) around a loop:
+// the loop closure against the robot's own first submaps pulls the end back towards the truth.
+TEST(MergeEngineTest, LoopClosureCorrectsDrift) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  const std::vector<Rigid2d> path =
+      testing::PathThrough({{8, 1.2}, {12, 1.2}, {12, 7}, {8, 7.2}, {8, 1.2}, {11, 1.2}}, 0.25);
+  std::vector<Submap> submaps = testing::MakeSubmaps("a", world, path, Rigid2d(), 5);
+  std::vector<Rigid2d> truth;
+  for (Submap& s : submaps) {
+    truth.push_back(s.submap_in_local);
+    const double k = static_cast<double>(s.submap_id);
+    s.submap_in_local = Rigid2d(0.005 * k, 0.0, 0.001 * k) * s.submap_in_local;
+  }
+  const Rigid2d true_rel = truth.front().inverse() * truth.back();
+  const Rigid2d drifted_rel = submaps.front().submap_in_local.inverse() * submaps.back().submap_in_local;
+  const double drift = (true_rel.inverse() * drifted_rel).translation().norm();
+  ASSERT_GT(drift, 0.1);
+  MergeEngineOptions options = TestOptions();
+  options.max_loop_searches_per_update = 100;
+  MergeEngine engine(options);
+  for (const Submap& s : submaps) ASSERT_TRUE(engine.AddOrUpdateSubmap(s));
+  const MergeUpdate update = engine.Update();
+  int closures = 0;
+  for (const AlignmentEvent& e : update.events) closures += e.evidence == EvidenceKind::kLoopClosure;
+  EXPECT_GE(closures, 1);
+  const auto poses = engine.SubmapPoses();
+  const Rigid2d rel = poses.at({"a", 0}).inverse() * poses.at({"a", submaps.back().submap_id});
+  EXPECT_LT((true_rel.inverse() * rel).translation().norm(), 0.3 * drift);
+}
+
+// A robot with nothing linking it to the others stays unplaced.
+TEST(MergeEngineTest, UnconnectedRobotStaysUnplaced) {
+  MergeEngine engine(TestOptions());
+  Feed(testing::OfficeWorld(), RobotA(), &engine);
+  Feed(testing::OfficeWorld(), RobotB(1.0), &engine);
+  engine.Update();
+  EXPECT_TRUE(engine.RobotToGlobal("a"));
+  EXPECT_THAT(*engine.RobotToGlobal("a"), IsNearPose(Rigid2d(), 1e-9, 1e-9));
+  EXPECT_FALSE(engine.RobotToGlobal("b"));
+  EXPECT_EQ(engine.PlacedRobots(), std::vector<std::string>{"a"});
+}
+
+// Robots registered with known starts are placed there at once and define the global frame.
+TEST(MergeEngineTest, KnownPlacementsArePlacedDirectly) {
+  MergeEngine engine(TestOptions());
+  const SimRobot a = RobotA(), b = RobotB(0.4);
+  ASSERT_TRUE(engine.SetKnownPlacement("b", b.local_in_world));
+  ASSERT_TRUE(engine.SetKnownPlacement("a", a.local_in_world));
+  Feed(testing::OfficeWorld(), a, &engine);
+  Feed(testing::OfficeWorld(), b, &engine);
+  engine.Update();
+  ASSERT_TRUE(engine.RobotToGlobal("a") && engine.RobotToGlobal("b"));
+  EXPECT_THAT(*engine.RobotToGlobal("a"), IsNearPose(a.local_in_world, 0.01, 0.002));
+  EXPECT_THAT(*engine.RobotToGlobal("b"), IsNearPose(b.local_in_world, 0.01, 0.002));
+  EXPECT_EQ(engine.reference_robot(), "b");
+  std::string error;
+  EXPECT_FALSE(engine.SetKnownPlacement("a", Rigid2d(), &error));  // already in the map
+}
+
+TEST(MergeEngineTest, RejectsInvalidInput) {
+  MergeEngine engine;
+  std::string error;
+  RobotDetection d;
+  d.observer_id = "a";
+  d.observed_id = "a";
+  EXPECT_FALSE(engine.AddDetection(d, &error));
+  d.observed_id = "b";
+  d.covariance << 1, 0, 0, -1;
+  EXPECT_FALSE(engine.AddDetection(d, &error));
+  EXPECT_FALSE(error.empty());
+  Submap s;
+  s.robot_id = "a";
+  s.revision = 2;
+  EXPECT_TRUE(engine.AddOrUpdateSubmap(s, &error));
+  s.revision = 1;
+  EXPECT_FALSE(engine.AddOrUpdateSubmap(s, &error));
+  s.robot_id = "";
+  EXPECT_FALSE(engine.AddOrUpdateSubmap(s, &error));
+  EXPECT_FALSE(engine.SetTrajectory("a", {{1.0, Rigid2d()}, {0.5, Rigid2d()}}, &error));
+  EXPECT_FALSE(engine.RenderGlobalMap(std::nullopt, -1.0, &error));
+  EXPECT_FALSE(engine.RenderGlobalMap(Box2d{{0, 0}, {1e6, 1e6}}, 0.01, &error));
+}
+
+}  // namespace
+}  // namespace fleetmap

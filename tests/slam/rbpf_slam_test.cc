@@ -1,0 +1,176 @@
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "robot_agent/slam/backend_factory.h"
+#include "robot_agent/slam/particle_slam.h"
+#include "tests/support/test_support.h"
+
+namespace fleetmap {
+namespace {
+
+using testing::IsNearPose;
+
+constexpr double kDegree = M_PI / 180.0;
+
+// A 20 m x 15 m corridor ring, 2 m wide, with pillars so the straights are not featureless.
+testing::SegmentWorld CorridorRing() {
+  testing::SegmentWorld world = testing::BoxWorld(Eigen::Vector2d(-10.0, -7.5), Eigen::Vector2d(10.0, 7.5));
+  testing::AddBox(Eigen::Vector2d(-8.0, -5.5), Eigen::Vector2d(8.0, 5.5), &world);
+  for (double x = -8.0; x <= 8.0; x += 2.7) {
+    testing::AddBox(Eigen::Vector2d(x, -7.5), Eigen::Vector2d(x + 0.3, -7.2), &world);
+    testing::AddBox(Eigen::Vector2d(x + 1.1, 7.2), Eigen::Vector2d(x + 1.4, 7.5), &world);
+  }
+  for (double y = -5.0; y <= 5.0; y += 2.3) {
+    testing::AddBox(Eigen::Vector2d(-10.0, y), Eigen::Vector2d(-9.7, y + 0.3), &world);
+    testing::AddBox(Eigen::Vector2d(9.7, y + 0.8), Eigen::Vector2d(10.0, y + 1.1), &world);
+  }
+  return world;
+}
+
+// One lap and a bit along the ring's centre line (so the end revisits the start): 0.1 m steps,
+// turning on the spot at the corners.
+std::vector<Rigid2d> LoopPoses() {
+  const std::vector<Eigen::Vector2d> corners = {{-9.0, -6.5}, {9.0, -6.5}, {9.0, 6.5}, {-9.0, 6.5}, {-9.0, -6.5},
+                                                {0.0, -6.5}};
+  std::vector<Rigid2d> poses;
+  double heading = 0.0;
+  for (size_t c = 0; c + 1 < corners.size(); ++c) {
+    const Eigen::Vector2d a = corners[c], b = corners[c + 1];
+    const int steps = static_cast<int>((b - a).norm() / 0.1);
+    for (int i = 0; i < steps; ++i) poses.emplace_back(a + (b - a) * (static_cast<double>(i) / steps), heading);
+    if (c + 2 < corners.size()) {
+      for (int i = 1; i <= 10; ++i) poses.emplace_back(b, heading + i * 9.0 * kDegree);
+    }
+    heading += M_PI / 2;
+  }
+  return poses;
+}
+
+// Odometry with a heading drift (0.5 degree per metre) and random noise.
+std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<Rigid2d> odometry = {truth.front()};
+  for (size_t i = 1; i < truth.size(); ++i) {
+    const Rigid2d step = truth[i - 1].inverse() * truth[i];
+    const double d = step.translation().norm();
+    const Rigid2d noisy(step.x() * (1.0 + 0.03 * noise(rng)), step.y() + 0.01 * d * noise(rng),
+                        step.rotation() + 0.5 * kDegree * d + 0.02 * std::abs(step.rotation()) * noise(rng));
+    odometry.push_back(odometry.back() * noisy);
+  }
+  return odometry;
+}
+
+// Runs a backend over the simulated loop (scans with 0.5 cm range noise).
+void RunLoop(LocalSlam* slam, const std::vector<Rigid2d>& truth, const std::vector<Rigid2d>& odometry) {
+  const testing::SegmentWorld world = CorridorRing();
+  std::mt19937 rng(7);
+  std::normal_distribution<float> range_noise(0.0f, 0.005f);
+  std::string error;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const double t = 0.1 * static_cast<double>(i);
+    LaserScan scan = testing::SimulateScan(world, truth[i], 181, static_cast<float>(-M_PI / 2),
+                                           static_cast<float>(M_PI / 180), 10.0f);
+    for (float& r : scan.ranges) {
+      if (std::isfinite(r)) r += range_noise(rng);
+    }
+    scan.timestamp = t;
+    ASSERT_TRUE(slam->AddOdometry({t, odometry[i]}, &error)) << error;
+    ASSERT_TRUE(slam->AddScan(scan, &error)) << error;
+  }
+}
+
+ParticleSlamOptions SmallRbpf(unsigned seed, int threads) {
+  ParticleSlamOptions options = ParticleSlamOptions::Rbpf();
+  options.filter.particles = 10;
+  options.filter.seed = seed;
+  options.threads = threads;
+  options.max_range = 10.0f;
+  return options;
+}
+
+double EndError(const LocalSlam& slam, const std::vector<Rigid2d>& truth) {
+  const Rigid2d end_truth = truth.front().inverse() * truth.back();
+  return (slam.CurrentPose().translation() - end_truth.translation()).norm();
+}
+
+TEST(RbpfSlamTest, ClosesASimulatedLoop) {
+  const std::vector<Rigid2d> truth = LoopPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 3);
+  ParticleSlam slam(SmallRbpf(1, 2));
+  RunLoop(&slam, truth, odometry);
+  ASSERT_EQ(slam.trajectory().size(), truth.size());
+  const Rigid2d end_odometry = odometry.front().inverse() * odometry.back();
+  const Rigid2d end_truth = truth.front().inverse() * truth.back();
+  const double odometry_error = (end_odometry.translation() - end_truth.translation()).norm();
+  EXPECT_GT(odometry_error, 1.0);  // the test means something only if odometry is bad
+  EXPECT_THAT(slam.CurrentPose(), IsNearPose(end_truth, 0.15, 1.0 * kDegree))
+      << slam.Statistics() << "; odometry end error " << odometry_error;
+  double worst = 0.0;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const Rigid2d expected = truth.front().inverse() * truth[i];
+    worst = std::max(worst, (slam.trajectory()[i].pose.translation() - expected.translation()).norm());
+  }
+  EXPECT_LT(worst, 0.4) << slam.Statistics();
+  EXPECT_LT(EndError(slam, truth), odometry_error / 10.0);
+
+  slam.Finish();
+  const std::vector<Submap> submaps = slam.TakeSubmapUpdates();
+  ASSERT_GE(submaps.size(), 3u);
+  for (const Submap& submap : submaps) {
+    EXPECT_TRUE(submap.finished);
+    EXPECT_FALSE(submap.scan_poses.empty());
+  }
+  EXPECT_TRUE(slam.TakeSubmapUpdates().empty());
+}
+
+TEST(RbpfSlamTest, FastSlamWithScanMatchedMotionTracksTheLoop) {
+  const std::vector<Rigid2d> truth = LoopPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 3);
+  ParticleSlamOptions options = ParticleSlamOptions::FastSlam();
+  options.filter.particles = 10;
+  options.scan_matched_motion = true;
+  options.max_range = 10.0f;
+  ParticleSlam slam(options);
+  RunLoop(&slam, truth, odometry);
+  const Rigid2d end_odometry = odometry.front().inverse() * odometry.back();
+  const Rigid2d end_truth = truth.front().inverse() * truth.back();
+  const double odometry_error = (end_odometry.translation() - end_truth.translation()).norm();
+  EXPECT_LT(EndError(slam, truth), odometry_error / 4.0) << slam.Statistics();
+  EXPECT_GT(slam.filter().resamplings(), 0);
+}
+
+TEST(RbpfSlamTest, SameSeedAndThreadsGiveIdenticalResults) {
+  const std::vector<Rigid2d> truth = LoopPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 5);
+  std::vector<Trajectory> runs;
+  for (int threads : {2, 2, 1}) {
+    ParticleSlam slam(SmallRbpf(42, threads));
+    RunLoop(&slam, truth, odometry);
+    runs.push_back(slam.trajectory());
+  }
+  for (size_t r = 1; r < runs.size(); ++r) {
+    ASSERT_EQ(runs[r].size(), runs[0].size());
+    for (size_t i = 0; i < runs[0].size(); ++i) {
+      ASSERT_EQ(runs[r][i].pose.x(), runs[0][i].pose.x()) << "run " << r << " scan " << i;
+      ASSERT_EQ(runs[r][i].pose.y(), runs[0][i].pose.y()) << "run " << r << " scan " << i;
+      ASSERT_EQ(runs[r][i].pose.rotation(), runs[0][i].pose.rotation()) << "run " << r << " scan " << i;
+    }
+  }
+}
+
+TEST(RbpfSlamTest, FactoryKnowsBothParticleFilters) {
+  std::string error;
+  for (const char* name : {"rbpf", "fastslam"}) {
+    BackendChoice choice;
+    choice.algorithm = name;
+    choice.particles = 3;
+    EXPECT_NE(MakeLocalSlam(choice, &error), nullptr) << error;
+  }
+}
+
+}  // namespace
+}  // namespace fleetmap

@@ -1,0 +1,149 @@
+#include "robot_agent/slam/scan_matching_slam.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/test_support.h"
+
+namespace fleetmap {
+namespace {
+
+using testing::IsNearPose;
+
+constexpr double kDegree = M_PI / 180.0;
+
+// A 20 m x 15 m corridor ring, 2 m wide, with pillars along the outer wall so that the straight
+// parts are not featureless.
+testing::SegmentWorld CorridorRing() {
+  testing::SegmentWorld world = testing::BoxWorld(Eigen::Vector2d(-10.0, -7.5), Eigen::Vector2d(10.0, 7.5));
+  testing::AddBox(Eigen::Vector2d(-8.0, -5.5), Eigen::Vector2d(8.0, 5.5), &world);
+  for (double x = -8.0; x <= 8.0; x += 2.7) {
+    testing::AddBox(Eigen::Vector2d(x, -7.5), Eigen::Vector2d(x + 0.3, -7.2), &world);
+    testing::AddBox(Eigen::Vector2d(x + 1.1, 7.2), Eigen::Vector2d(x + 1.4, 7.5), &world);
+  }
+  for (double y = -5.0; y <= 5.0; y += 2.3) {
+    testing::AddBox(Eigen::Vector2d(-10.0, y), Eigen::Vector2d(-9.7, y + 0.3), &world);
+    testing::AddBox(Eigen::Vector2d(9.7, y + 0.8), Eigen::Vector2d(10.0, y + 1.1), &world);
+  }
+  return world;
+}
+
+// Ground-truth poses of one lap along the ring's centre line: 0.1 m steps on the straights,
+// 9 degree steps turning on the spot at the corners.
+std::vector<Rigid2d> LapPoses() {
+  const std::vector<Eigen::Vector2d> corners = {{-9.0, -6.5}, {9.0, -6.5}, {9.0, 6.5}, {-9.0, 6.5}, {-9.0, -6.5}};
+  std::vector<Rigid2d> poses;
+  double heading = 0.0;
+  for (size_t c = 0; c + 1 < corners.size(); ++c) {
+    const Eigen::Vector2d a = corners[c], b = corners[c + 1];
+    const int steps = static_cast<int>((b - a).norm() / 0.1);
+    for (int i = 0; i < steps; ++i) poses.emplace_back(a + (b - a) * (static_cast<double>(i) / steps), heading);
+    for (int i = 1; i <= 10; ++i) poses.emplace_back(b, heading + i * 9.0 * kDegree);
+    heading += M_PI / 2;
+  }
+  return poses;
+}
+
+// Odometry with a systematic heading drift (0.5 degree per metre) and random noise.
+std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<Rigid2d> odometry = {truth.front()};
+  for (size_t i = 1; i < truth.size(); ++i) {
+    const Rigid2d step = truth[i - 1].inverse() * truth[i];
+    const double d = step.translation().norm();
+    const Rigid2d noisy(step.x() * (1.0 + 0.03 * noise(rng)), step.y() + 0.01 * d * noise(rng),
+                        step.rotation() + 0.5 * kDegree * d + 0.02 * std::abs(step.rotation()) * noise(rng));
+    odometry.push_back(odometry.back() * noisy);
+  }
+  return odometry;
+}
+
+LaserScan Scan(const testing::SegmentWorld& world, const Rigid2d& pose, double time) {
+  LaserScan scan = testing::SimulateScan(world, pose, 181, static_cast<float>(-M_PI / 2),
+                                         static_cast<float>(M_PI / 180), 10.0f);
+  scan.timestamp = time;
+  return scan;
+}
+
+TEST(ScanMatchingSlamTest, MapsASimulatedLoopWithBoundedError) {
+  const testing::SegmentWorld world = CorridorRing();
+  const std::vector<Rigid2d> truth = LapPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 3);
+  ScanMatchingSlamOptions options;
+  options.submaps.max_scans = 50;
+  ScanMatchingSlam slam(options);
+  std::string error;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const double t = 0.1 * static_cast<double>(i);
+    ASSERT_TRUE(slam.AddOdometry({t, odometry[i]}, &error)) << error;
+    ASSERT_TRUE(slam.AddScan(Scan(world, truth[i], t), &error)) << error;
+  }
+  ASSERT_EQ(slam.trajectory().size(), truth.size());
+  // The local map frame is the first pose; truth starts at truth.front().
+  double worst = 0.0;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const Rigid2d expected = truth.front().inverse() * truth[i];
+    worst = std::max(worst, (slam.trajectory()[i].pose.translation() - expected.translation()).norm());
+    EXPECT_DOUBLE_EQ(slam.trajectory()[i].timestamp, 0.1 * static_cast<double>(i));
+  }
+  const Rigid2d end_truth = truth.front().inverse() * truth.back();
+  const Rigid2d end_odometry = odometry.front().inverse() * odometry.back();
+  const double odometry_error = (end_odometry.translation() - end_truth.translation()).norm();
+  EXPECT_GT(odometry_error, 1.0);  // the test means something only if odometry is bad
+  EXPECT_THAT(slam.CurrentPose(), IsNearPose(end_truth, 0.25, 1.5 * kDegree))
+      << "odometry end error " << odometry_error;
+  EXPECT_LT(worst, 0.3);
+  EXPECT_EQ(slam.counters().failed, 0);
+  // Submaps: every 50 inserted scans.
+  slam.Finish();
+  const std::vector<Submap> submaps = slam.TakeSubmapUpdates();
+  ASSERT_GE(submaps.size(), 2u);
+  for (const Submap& submap : submaps) {
+    EXPECT_TRUE(submap.finished);
+    EXPECT_LE(submap.scan_poses.size(), 50u);
+  }
+  EXPECT_EQ(submaps.front().scan_poses.size(), 50u);
+}
+
+TEST(ScanMatchingSlamTest, RejectsTimeGoingBackwards) {
+  const testing::SegmentWorld world = CorridorRing();
+  ScanMatchingSlam slam;
+  std::string error;
+  ASSERT_TRUE(slam.AddScan(Scan(world, Rigid2d(-9.0, -6.5, 0.0), 2.0), &error));
+  EXPECT_FALSE(slam.AddScan(Scan(world, Rigid2d(-9.0, -6.5, 0.0), 1.0), &error));
+  EXPECT_NE(error.find("older"), std::string::npos) << error;
+  EXPECT_FALSE(slam.AddOdometry({1.5, Rigid2d()}, &error));
+  EXPECT_FALSE(slam.AddScan(Scan(world, Rigid2d(-9.0, -6.5, 0.0), NAN), &error));
+  EXPECT_EQ(slam.trajectory().size(), 1u);
+}
+
+TEST(ScanMatchingSlamTest, ScansWithoutReturnsFollowOdometry) {
+  ScanMatchingSlam slam;
+  std::string error;
+  LaserScan empty = MakeLaserScan(0.0, -1.5f, 0.1f, 0.0f, 10.0f, std::vector<float>(30, LaserScan::kNoReturn));
+  ASSERT_TRUE(slam.AddOdometry({0.0, Rigid2d(5.0, 5.0, 0.0)}, &error));
+  ASSERT_TRUE(slam.AddScan(empty, &error));
+  empty.timestamp = 1.0;
+  ASSERT_TRUE(slam.AddOdometry({1.0, Rigid2d(5.5, 5.0, 0.1)}, &error));
+  ASSERT_TRUE(slam.AddScan(empty, &error));
+  ASSERT_EQ(slam.trajectory().size(), 2u);
+  EXPECT_THAT(slam.trajectory()[1].pose, IsNearPose(Rigid2d(0.5, 0.0, 0.1), 1e-9, 1e-9));
+  EXPECT_EQ(slam.counters().no_return_scans, 2);
+  EXPECT_TRUE(slam.TakeSubmapUpdates().empty());
+}
+
+TEST(ScanMatchingSlamTest, WorksWithoutOdometryForSmallMotions) {
+  const testing::SegmentWorld world = CorridorRing();
+  ScanMatchingSlam slam;
+  std::string error;
+  const Rigid2d start(-9.0, -6.5, 0.0);
+  for (int i = 0; i < 30; ++i) {
+    ASSERT_TRUE(slam.AddScan(Scan(world, start * Rigid2d(0.05 * i, 0.0, 0.0), 0.1 * i), &error));
+  }
+  EXPECT_THAT(slam.CurrentPose(), IsNearPose(Rigid2d(1.45, 0.0, 0.0), 0.05, 1.0 * kDegree));
+}
+
+}  // namespace
+}  // namespace fleetmap
