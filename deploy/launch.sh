@@ -1,17 +1,18 @@
 #!/usr/bin/env bash
-# Starts a fleetmap server and one agent per simulated robot on loopback, waits for the merge,
+# Starts a fleetmap server and one agent per simulated robot on loopback (each with camera-based
+# robot detection unless --no-camera), waits for the merge,
 # exports the global map and scores it against the simulator's ground truth; stops everything
 # cleanly on exit (also on Ctrl-C).
 #
 # Usage: deploy/launch.sh [--scenario NAME|PATH] [--out DIR] [--speed max|realtime|N]
-#                         [--camera] [--merge-timeout S] [--keep-running] [--bin BUILD_DIR]
+#                         [--no-camera] [--merge-timeout S] [--keep-running] [--bin BUILD_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 SCENARIO=department_3robots
 OUT=out/launch
 SPEED=max
-CAMERA=false
+CAMERA=true
 MERGE_TIMEOUT=120
 KEEP_RUNNING=0
 BIN=${FLEETMAP_BUILD_DIR:-build}
@@ -20,7 +21,7 @@ while [ $# -gt 0 ]; do
     --scenario) SCENARIO=$2; shift 2 ;;
     --out) OUT=$2; shift 2 ;;
     --speed) SPEED=$2; shift 2 ;;
-    --camera) CAMERA=true; shift ;;
+    --no-camera) CAMERA=false; shift ;;
     --merge-timeout) MERGE_TIMEOUT=$2; shift 2 ;;
     --keep-running) KEEP_RUNNING=1; shift ;;
     --bin) BIN=$2; shift 2 ;;
@@ -85,6 +86,8 @@ source:
   speed: $SPEED
 map:
   subscribe: false
+detection:
+  enabled: $CAMERA
 status:
   period: 10
 YAML
