@@ -7,6 +7,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "map_server/store/records.h"
+#include "proto/conversions.h"
 #include "proto/fleetmap/v1/fleetmap.pb.h"
 #include "shared/codec/grid_codec.h"
 
@@ -22,10 +23,6 @@ struct UploadLimits {
   int64_t max_query_cells = 64LL << 20;  // cells in one GetGlobalMap answer
 };
 
-Rigid2d FromProto(const v1::Pose2d& pose);
-v1::Pose2d ToProto(const Rigid2d& pose);
-void ToProto(const StampedPose& pose, v1::StampedPose* out);
-
 // Robot ids: 1-64 characters of [A-Za-z0-9_.-].
 grpc::Status ValidateRobotId(const std::string& robot_id, const char* field);
 
@@ -36,9 +33,6 @@ grpc::Status FromProto(const v1::UploadTrajectoryRequest& request, const UploadL
                        double now, TrajectoryRecord* trajectory);
 grpc::Status FromProto(const std::string& observer_id, const v1::Detection& detection,
                        double now, DetectionRecord* record);
-
-EncodedGrid FromProto(const v1::Grid& grid);
-void ToProto(const EncodedGrid& grid, v1::Grid* out);
 
 void ToProto(const RobotPlacementRecord& placement, v1::RobotPlacement* out);
 void ToProto(const VersionRecord& version, v1::VersionInfo* out);

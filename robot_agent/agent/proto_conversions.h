@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "proto/conversions.h"
 #include "proto/fleetmap/v1/fleetmap.pb.h"
 #include "shared/codec/grid_codec.h"
 #include "shared/core/robot_detection.h"
@@ -13,19 +14,15 @@
 
 namespace fleetmap::agent {
 
-// In a namespace of its own: the server has conversions with the same signatures, and tests
-// link both.
-
-v1::Pose2d ToProto(const Rigid2d& pose);
-Rigid2d FromProto(const v1::Pose2d& pose);
+// Poses and grids convert with the shared proto/conversions.h; these are the agent's messages.
+using fleetmap::FromProto;
+using fleetmap::ToProto;
 
 // The submap with its grid cropped to observed cells, int8 log-odds, zstd.
 v1::SubmapUpload ToProto(const Submap& submap, int zstd_level = 1);
 v1::UploadTrajectoryRequest ToTrajectoryRequest(const std::string& robot_id, int64_t revision,
                                                 const Trajectory& trajectory);
 v1::Detection ToProto(const RobotDetection& detection, int64_t detection_id);
-
-EncodedGrid FromProto(const v1::Grid& grid);
 
 }  // namespace fleetmap::agent
 
