@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "robot_agent/slam/input_order.h"
 #include "shared/matching/point_filter.h"
 
 namespace fleetmap {
@@ -35,24 +36,8 @@ ParticleSlam::ParticleSlam(const ParticleSlamOptions& options)
       }()),
       tracker_(options_.tracker) {}
 
-bool ParticleSlam::CheckTime(double timestamp, const char* what, std::string* error) {
-  if (!std::isfinite(timestamp)) {
-    if (error) *error = std::string(what) + " with a non-finite timestamp";
-    return false;
-  }
-  if (timestamp < last_time_) {
-    std::ostringstream message;
-    message.precision(17);
-    message << what << " at time " << timestamp << " is older than the previous input (time "
-            << last_time_ << "): inputs must come in time order";
-    if (error) *error = message.str();
-    return false;
-  }
-  return true;
-}
-
 bool ParticleSlam::AddOdometry(const StampedPose& odometry, std::string* error) {
-  if (!CheckTime(odometry.timestamp, "odometry", error)) return false;
+  if (!CheckInputTime(odometry.timestamp, last_time_, "odometry", error)) return false;
   if (!odometry_.Add(odometry, error)) return false;
   last_time_ = odometry.timestamp;
   return true;
@@ -84,7 +69,7 @@ ParticleScan ParticleSlam::Prepare(const LaserScan& scan, LaserScan* limited,
 }
 
 bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
-  if (!CheckTime(scan.timestamp, "scan", error)) return false;
+  if (!CheckInputTime(scan.timestamp, last_time_, "scan", error)) return false;
   if (!scan.sensor_in_robot.IsFinite()) {
     if (error) *error = "scan with a non-finite sensor mounting pose";
     return false;

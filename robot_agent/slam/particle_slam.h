@@ -67,7 +67,6 @@ class ParticleSlam : public LocalSlam {
   const ParticleFilter& filter() const { return filter_; }
 
  private:
-  bool CheckTime(double timestamp, const char* what, std::string* error);
   ParticleScan Prepare(const LaserScan& scan, LaserScan* limited,
                        std::vector<Eigen::Vector2f>* tracker_points) const;
   void AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points);

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "robot_agent/slam/degeneracy.h"
+#include "robot_agent/slam/input_order.h"
 #include "shared/matching/point_filter.h"
 
 namespace fleetmap {
@@ -34,31 +35,15 @@ ScanMatchingSlam::ScanMatchingSlam(const ScanMatchingSlamOptions& options)
       submaps_(options.robot_id, options.submaps),
       loop_closure_(options.loop_closure) {}
 
-bool ScanMatchingSlam::CheckTime(double timestamp, const char* what, std::string* error) {
-  if (!std::isfinite(timestamp)) {
-    if (error) *error = std::string(what) + " with a non-finite timestamp";
-    return false;
-  }
-  if (timestamp < last_time_) {
-    std::ostringstream message;
-    message.precision(17);
-    message << what << " at time " << timestamp << " is older than the previous input (time "
-            << last_time_ << "): inputs must come in time order";
-    if (error) *error = message.str();
-    return false;
-  }
-  return true;
-}
-
 bool ScanMatchingSlam::AddOdometry(const StampedPose& odometry, std::string* error) {
-  if (!CheckTime(odometry.timestamp, "odometry", error)) return false;
+  if (!CheckInputTime(odometry.timestamp, last_time_, "odometry", error)) return false;
   if (!odometry_.Add(odometry, error)) return false;
   last_time_ = odometry.timestamp;
   return true;
 }
 
 bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
-  if (!CheckTime(scan.timestamp, "scan", error)) return false;
+  if (!CheckInputTime(scan.timestamp, last_time_, "scan", error)) return false;
   if (!scan.sensor_in_robot.IsFinite()) {
     if (error) *error = "scan with a non-finite sensor mounting pose";
     return false;

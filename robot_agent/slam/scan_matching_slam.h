@@ -77,7 +77,6 @@ class ScanMatchingSlam : public LocalSlam {
   const Counters& counters() const { return counters_; }
 
  private:
-  bool CheckTime(double timestamp, const char* what, std::string* error);
   Rigid2d Match(const std::vector<Eigen::Vector2f>& points, const Rigid2d& predicted,
                 const std::vector<Eigen::Vector2f>& beam_points);
   bool ShouldInsert(const Rigid2d& pose, double timestamp) const;
