@@ -6,6 +6,7 @@
 
 #include "robot_agent/slam/backend_factory.h"
 #include "robot_agent/slam/particle_slam.h"
+#include "tests/slam/slam_test_worlds.h"
 #include "tests/support/test_support.h"
 
 namespace fleetmap {
@@ -14,21 +15,6 @@ namespace {
 using testing::IsNearPose;
 
 constexpr double kDegree = M_PI / 180.0;
-
-// A 20 m x 15 m corridor ring, 2 m wide, with pillars so the straights are not featureless.
-testing::SegmentWorld CorridorRing() {
-  testing::SegmentWorld world = testing::BoxWorld(Eigen::Vector2d(-10.0, -7.5), Eigen::Vector2d(10.0, 7.5));
-  testing::AddBox(Eigen::Vector2d(-8.0, -5.5), Eigen::Vector2d(8.0, 5.5), &world);
-  for (double x = -8.0; x <= 8.0; x += 2.7) {
-    testing::AddBox(Eigen::Vector2d(x, -7.5), Eigen::Vector2d(x + 0.3, -7.2), &world);
-    testing::AddBox(Eigen::Vector2d(x + 1.1, 7.2), Eigen::Vector2d(x + 1.4, 7.5), &world);
-  }
-  for (double y = -5.0; y <= 5.0; y += 2.3) {
-    testing::AddBox(Eigen::Vector2d(-10.0, y), Eigen::Vector2d(-9.7, y + 0.3), &world);
-    testing::AddBox(Eigen::Vector2d(9.7, y + 0.8), Eigen::Vector2d(10.0, y + 1.1), &world);
-  }
-  return world;
-}
 
 // One lap and a bit along the ring's centre line (so the end revisits the start): 0.1 m steps,
 // turning on the spot at the corners.
@@ -66,7 +52,7 @@ std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned s
 
 // Runs a backend over the simulated loop (scans with 0.5 cm range noise).
 void RunLoop(LocalSlam* slam, const std::vector<Rigid2d>& truth, const std::vector<Rigid2d>& odometry) {
-  const testing::SegmentWorld world = CorridorRing();
+  const testing::SegmentWorld world = testing::CorridorRing();
   std::mt19937 rng(7);
   std::normal_distribution<float> range_noise(0.0f, 0.005f);
   std::string error;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/slam/slam_test_worlds.h"
 #include "tests/support/test_support.h"
 
 namespace fleetmap {
@@ -12,22 +13,6 @@ namespace {
 using testing::IsNearPose;
 
 constexpr double kDegree = M_PI / 180.0;
-
-// A 20 m x 15 m corridor ring, 2 m wide, with pillars along the outer wall so that the straight
-// parts are not featureless.
-testing::SegmentWorld CorridorRing() {
-  testing::SegmentWorld world = testing::BoxWorld(Eigen::Vector2d(-10.0, -7.5), Eigen::Vector2d(10.0, 7.5));
-  testing::AddBox(Eigen::Vector2d(-8.0, -5.5), Eigen::Vector2d(8.0, 5.5), &world);
-  for (double x = -8.0; x <= 8.0; x += 2.7) {
-    testing::AddBox(Eigen::Vector2d(x, -7.5), Eigen::Vector2d(x + 0.3, -7.2), &world);
-    testing::AddBox(Eigen::Vector2d(x + 1.1, 7.2), Eigen::Vector2d(x + 1.4, 7.5), &world);
-  }
-  for (double y = -5.0; y <= 5.0; y += 2.3) {
-    testing::AddBox(Eigen::Vector2d(-10.0, y), Eigen::Vector2d(-9.7, y + 0.3), &world);
-    testing::AddBox(Eigen::Vector2d(9.7, y + 0.8), Eigen::Vector2d(10.0, y + 1.1), &world);
-  }
-  return world;
-}
 
 // Ground-truth poses of one lap along the ring's centre line: 0.1 m steps on the straights,
 // 9 degree steps turning on the spot at the corners.
@@ -68,7 +53,7 @@ LaserScan Scan(const testing::SegmentWorld& world, const Rigid2d& pose, double t
 }
 
 TEST(ScanMatchingSlamTest, MapsASimulatedLoopWithBoundedError) {
-  const testing::SegmentWorld world = CorridorRing();
+  const testing::SegmentWorld world = testing::CorridorRing();
   const std::vector<Rigid2d> truth = LapPoses();
   const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 3);
   ScanMatchingSlamOptions options;
@@ -108,7 +93,7 @@ TEST(ScanMatchingSlamTest, MapsASimulatedLoopWithBoundedError) {
 }
 
 TEST(ScanMatchingSlamTest, RejectsTimeGoingBackwards) {
-  const testing::SegmentWorld world = CorridorRing();
+  const testing::SegmentWorld world = testing::CorridorRing();
   ScanMatchingSlam slam;
   std::string error;
   ASSERT_TRUE(slam.AddScan(Scan(world, Rigid2d(-9.0, -6.5, 0.0), 2.0), &error));
@@ -135,7 +120,7 @@ TEST(ScanMatchingSlamTest, ScansWithoutReturnsFollowOdometry) {
 }
 
 TEST(ScanMatchingSlamTest, WorksWithoutOdometryForSmallMotions) {
-  const testing::SegmentWorld world = CorridorRing();
+  const testing::SegmentWorld world = testing::CorridorRing();
   ScanMatchingSlam slam;
   std::string error;
   const Rigid2d start(-9.0, -6.5, 0.0);
