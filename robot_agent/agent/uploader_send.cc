@@ -20,6 +20,24 @@ bool IsSuperseded(const OutboxItem& item, grpc::StatusCode code) {
          (item.key.kind == OutboxKind::kSubmap || item.key.kind == OutboxKind::kTrajectory);
 }
 
+// Parses each item's payload into a new element of `batch`; an unreadable payload goes to
+// `reject` instead. Returns the items that made it into the batch, in batch order.
+template <typename Message, typename Reject>
+std::vector<OutboxItem> ParseBatch(const std::vector<OutboxItem>& items,
+                                   google::protobuf::RepeatedPtrField<Message>* batch,
+                                   Reject reject) {
+  std::vector<OutboxItem> parsed;
+  for (const OutboxItem& item : items) {
+    if (!batch->Add()->ParseFromString(item.payload)) {
+      batch->RemoveLast();
+      reject(item);
+      continue;
+    }
+    parsed.push_back(item);
+  }
+  return parsed;
+}
+
 }  // namespace
 
 void Uploader::DropSuperseded(const std::vector<OutboxItem>& items) {
@@ -138,15 +156,10 @@ Uploader::Outcome Uploader::HandleCallFailure(const grpc::Status& status,
 Uploader::Outcome Uploader::SendSubmaps(const std::vector<OutboxItem>& items) {
   v1::UploadSubmapsRequest request;
   request.set_robot_id(registration_.robot_id());
-  std::vector<OutboxItem> sent;
-  for (const OutboxItem& item : items) {
-    if (!request.add_submaps()->ParseFromString(item.payload)) {
-      request.mutable_submaps()->RemoveLast();
-      RejectItem(item, static_cast<int>(grpc::StatusCode::DATA_LOSS), "unreadable payload");
-      continue;
-    }
-    sent.push_back(item);
-  }
+  const std::vector<OutboxItem> sent =
+      ParseBatch(items, request.mutable_submaps(), [this](const OutboxItem& item) {
+    RejectItem(item, static_cast<int>(grpc::StatusCode::DATA_LOSS), "unreadable payload");
+  });
   if (sent.empty()) return Outcome::kOk;
   grpc::ClientContext context;
   v1::UploadSubmapsResponse response;
@@ -160,15 +173,10 @@ Uploader::Outcome Uploader::SendSubmaps(const std::vector<OutboxItem>& items) {
 Uploader::Outcome Uploader::SendDetections(const std::vector<OutboxItem>& items) {
   v1::ReportDetectionsRequest request;
   request.set_observer_id(registration_.robot_id());
-  std::vector<OutboxItem> sent;
-  for (const OutboxItem& item : items) {
-    if (!request.add_detections()->ParseFromString(item.payload)) {
-      request.mutable_detections()->RemoveLast();
-      RejectItem(item, static_cast<int>(grpc::StatusCode::DATA_LOSS), "unreadable payload");
-      continue;
-    }
-    sent.push_back(item);
-  }
+  const std::vector<OutboxItem> sent =
+      ParseBatch(items, request.mutable_detections(), [this](const OutboxItem& item) {
+    RejectItem(item, static_cast<int>(grpc::StatusCode::DATA_LOSS), "unreadable payload");
+  });
   if (sent.empty()) return Outcome::kOk;
   grpc::ClientContext context;
   v1::ReportDetectionsResponse response;
