@@ -59,8 +59,9 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
   std::vector<Eigen::Vector2f> points = RangeFilter(ToPointsInRobotFrame(scan), options_.max_range);
   if (points.empty()) ++counters_.no_return_scans;
   Rigid2d pose = predicted;
-  const std::vector<Eigen::Vector2f> filtered = VoxelFilter(points, options_.voxel_size);
-  if (!points.empty() && !local_map_.target().empty()) pose = Match(filtered, predicted, points);
+  const std::vector<Eigen::Vector2f> matched = PointsInsideHorizon(scan);
+  const std::vector<Eigen::Vector2f> filtered = VoxelFilter(matched, options_.voxel_size);
+  if (!filtered.empty() && !local_map_.target().empty()) pose = Match(filtered, predicted, matched);
   current_pose_ = pose;
   local_poses_.push_back(pose);
   trajectory_.push_back({scan.timestamp, loop_closure_.CorrectionAt(scan.timestamp) * pose});
@@ -80,6 +81,16 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
     ++counters_.inserted;
   }
   return true;
+}
+
+std::vector<Eigen::Vector2f> ScanMatchingSlam::PointsInsideHorizon(const LaserScan& scan) const {
+  const float horizon = std::min(options_.max_range, scan.range_max > 0.0f ? scan.range_max : options_.max_range);
+  LaserScan inside = scan;
+  const float limit = horizon - options_.match_range_margin;
+  for (float& range : inside.ranges) {
+    if (!(range < limit)) range = LaserScan::kNoReturn;
+  }
+  return ToPointsInRobotFrame(inside);
 }
 
 Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& points,

@@ -20,6 +20,12 @@ struct ScanMatchingSlamOptions {
   std::string robot_id = "robot";
   // Returns farther than this are left out of matching and mapping (metres).
   float max_range = 20.0f;
+  // Returns within this distance (metres) of the laser's horizon (the smaller of the scan's
+  // range_max and max_range) are mapped but not matched. The map's walls end where earlier
+  // scans' horizon cut them, just behind the new scan's horizon; those last points would land
+  // past the map's wall ends and pull the match back towards the previous pose (in a corridor,
+  // ~0.5 m lost as its far end comes into range).
+  float match_range_margin = 1.0f;
   // Matching uses one point per voxel of this size (metres).
   float voxel_size = 0.05f;
   LocalMatchMapOptions local_map;
@@ -79,6 +85,8 @@ class ScanMatchingSlam : public LocalSlam {
  private:
   Rigid2d Match(const std::vector<Eigen::Vector2f>& points, const Rigid2d& predicted,
                 const std::vector<Eigen::Vector2f>& beam_points);
+  // The scan's returns in the robot frame, less those within match_range_margin of its horizon.
+  std::vector<Eigen::Vector2f> PointsInsideHorizon(const LaserScan& scan) const;
   bool ShouldInsert(const Rigid2d& pose, double timestamp) const;
   // After a graph optimisation: re-derives every scan's corrected pose.
   void ApplyCorrections();

@@ -65,21 +65,21 @@ MatchGrid MatchGrid::FromOccupancyGrid(const OccupancyGrid& occupancy, float occ
 MatchGrid MatchGrid::FromPoints(const std::vector<Eigen::Vector2d>& points,
                                 const MatchGridOptions& options) {
   MatchGrid grid(options);
-  if (points.empty()) return grid;
-  Eigen::Vector2d lo = points.front(), hi = points.front();
+  std::vector<Eigen::Vector2d> finite;
+  finite.reserve(points.size());
   for (const Eigen::Vector2d& p : points) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
+    if (p.allFinite()) finite.push_back(p);
   }
-  grid.GrowToInclude(lo, hi);
-  for (const Eigen::Vector2d& p : points) grid.Stamp(p);
+  grid.AddBatch(finite);
   return grid;
 }
 
 void MatchGrid::AddPoint(const Eigen::Vector2d& point) {
   if (!point.allFinite()) return;
   GrowToInclude(point, point);
-  Stamp(point);
+  SurfaceElement element;
+  element.centre = point;
+  Stamp(element);
 }
 
 void MatchGrid::AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
@@ -90,14 +90,22 @@ void MatchGrid::AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
     const Eigen::Vector2d q = frame_in_map * Eigen::Vector2d(p.cast<double>());
     if (q.allFinite()) points.push_back(q);
   }
+  AddBatch(points);
+}
+
+void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points) {
   if (points.empty()) return;
   Eigen::Vector2d lo = points.front(), hi = points.front();
   for (const Eigen::Vector2d& p : points) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  GrowToInclude(lo, hi);
-  for (const Eigen::Vector2d& p : points) Stamp(p);
+  // Wall pieces reach a little past their points.
+  const Eigen::Vector2d reach = Eigen::Vector2d::Constant(options_.surface.max_extent);
+  GrowToInclude(lo - reach, hi + reach);
+  for (const SurfaceElement& element : FitSurfaceElements(points, options_.resolution, options_.surface)) {
+    Stamp(element);
+  }
 }
 
 void MatchGrid::GrowToInclude(const Eigen::Vector2d& min_point, const Eigen::Vector2d& max_point) {
@@ -143,10 +151,10 @@ void MatchGrid::GrowToInclude(const Eigen::Vector2d& min_point, const Eigen::Vec
   has_point_ = std::move(has_point);
 }
 
-void MatchGrid::Stamp(const Eigen::Vector2d& point) {
+void MatchGrid::Stamp(const SurfaceElement& element) {
   const double r = options_.resolution;
-  const double gx = (point.x() - origin_.x()) / r;
-  const double gy = (point.y() - origin_.y()) / r;
+  const double gx = (element.centre.x() - origin_.x()) / r;
+  const double gy = (element.centre.y() - origin_.y()) / r;
   if (!(gx >= 0.0 && gy >= 0.0 && gx < width_ && gy < height_)) return;  // not after growing
   const int cx = static_cast<int>(gx);
   const int cy = static_cast<int>(gy);
@@ -154,15 +162,25 @@ void MatchGrid::Stamp(const Eigen::Vector2d& point) {
   if (seen) return;
   seen = 1;
   ++obstacle_count_;
-  const int radius = static_cast<int>(std::ceil(options_.max_distance / r));
-  const int x0 = std::max(0, cx - radius), x1 = std::min(width_ - 1, cx + radius);
-  const int y0 = std::max(0, cy - radius), y1 = std::min(height_ - 1, cy + radius);
+  // The segment's ends, in grid units; cells within max_distance of it are updated. The grid's
+  // margin is max_distance around the centres, and an element reaches at most a few cells, so
+  // the box is clipped to the grid.
+  const Eigen::Vector2d centre(gx, gy);
+  const Eigen::Vector2d tangent = element.tangent;
+  const double reach_minus = element.extent_minus / r, reach_plus = element.extent_plus / r;
+  const Eigen::Vector2d a = centre - reach_minus * tangent, b = centre + reach_plus * tangent;
+  const double radius = options_.max_distance / r;
+  const int x0 = std::max(0, static_cast<int>(std::floor(std::min(a.x(), b.x()) - radius)));
+  const int x1 = std::min(width_ - 1, static_cast<int>(std::ceil(std::max(a.x(), b.x()) + radius)));
+  const int y0 = std::max(0, static_cast<int>(std::floor(std::min(a.y(), b.y()) - radius)));
+  const int y1 = std::min(height_ - 1, static_cast<int>(std::ceil(std::max(a.y(), b.y()) + radius)));
+  const double r2 = r * r;
   for (int y = y0; y <= y1; ++y) {
-    const float dy = static_cast<float>((y + 0.5 - gy) * r);
     float* row = squared_.data() + static_cast<size_t>(y) * static_cast<size_t>(width_);
     for (int x = x0; x <= x1; ++x) {
-      const float dx = static_cast<float>((x + 0.5 - gx) * r);
-      const float d2 = dx * dx + dy * dy;
+      const Eigen::Vector2d d(x + 0.5 - gx, y + 0.5 - gy);
+      const double s = std::clamp(tangent.dot(d), -reach_minus, reach_plus);
+      const float d2 = static_cast<float>((d - s * tangent).squaredNorm() * r2);
       if (d2 < row[x]) row[x] = d2;
     }
   }

@@ -9,6 +9,7 @@
 #include "shared/core/likelihood_field.h"
 #include "shared/core/occupancy_grid.h"
 #include "shared/core/rigid2d.h"
+#include "shared/matching/surface_elements.h"
 
 namespace fleetmap {
 
@@ -17,15 +18,19 @@ struct MatchGridOptions {
   // Distances are clamped here; it is also how far around each obstacle point the grid is
   // updated, so it bounds the cost of adding a point and the basin of the refinement.
   double max_distance = 0.3;
+  // Points added in one batch are fitted to the walls they lie on (see FitSurfaceElements), and
+  // the field holds the distance to those short wall pieces rather than to the sampled points.
+  SurfaceFitOptions surface;
 };
 
 // The target a scan is matched against: for every cell centre, the squared distance (m^2,
-// clamped at max_distance^2) to the nearest obstacle point. Squared, because near a wall it is a
+// clamped at max_distance^2) to the nearest obstacle: a short piece of wall where the points of
+// a batch lie on a line, the point itself elsewhere. Squared, because near a wall it is a
 // quadratic that bicubic interpolation reproduces exactly, so the interpolated field has its
 // minimum exactly on the wall and a well-defined curvature there (a distance cone has neither). Unlike the core LikelihoodField it can grow
 // incrementally: adding a point only touches the cells within max_distance of it, which is what
-// makes a rolling local map affordable at every scan. Distances are exact to the points added
-// (not to cell centres), so sub-cell wall positions survive.
+// makes a rolling local map affordable at every scan. Distances are exact to the points and wall
+// pieces added (not to cell centres), so sub-cell wall positions survive.
 class MatchGrid {
  public:
   explicit MatchGrid(const MatchGridOptions& options = MatchGridOptions());
@@ -45,10 +50,12 @@ class MatchGrid {
   bool empty() const { return obstacle_count_ == 0; }
   int64_t obstacle_count() const { return obstacle_count_; }
 
-  // Adds obstacle points (map frame). The first point that falls in a cell represents it; later
-  // points in the same cell are ignored, so re-observing a wall costs almost nothing.
+  // Adds one obstacle point (map frame), as a point. The first point or wall piece whose centre
+  // falls in a cell represents it; later ones in the same cell are ignored, so re-observing a
+  // wall costs almost nothing.
   void AddPoint(const Eigen::Vector2d& point);
-  // Adds `points_in_frame` transformed by `frame_in_map`; grows the grid once for all of them.
+  // Adds `points_in_frame` transformed by `frame_in_map`, fitted to the walls they lie on; grows
+  // the grid once for all of them.
   void AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame, const Rigid2d& frame_in_map);
 
   double max_squared_distance() const { return options_.max_distance * options_.max_distance; }
@@ -69,7 +76,9 @@ class MatchGrid {
 
  private:
   void GrowToInclude(const Eigen::Vector2d& min, const Eigen::Vector2d& max);
-  void Stamp(const Eigen::Vector2d& point);
+  // Fits the batch to its walls and stamps every element (grows the grid first).
+  void AddBatch(const std::vector<Eigen::Vector2d>& points);
+  void Stamp(const SurfaceElement& element);
 
   MatchGridOptions options_;
   Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();

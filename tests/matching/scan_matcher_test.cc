@@ -73,6 +73,31 @@ TEST(ScanMatcherRefinementTest, RefinementAloneConvergesFromAFewCentimetres) {
   EXPECT_THAT(match->pose, IsNearPose(truth, 0.01, 0.2 * kDegree));
 }
 
+// The local SLAM case: the map holds the previous scan, and the robot moved a few centimetres.
+// Most of the new scan's beams hit the walls next to where the previous scan's did; a field of
+// sampled points has its minimum at "not moved" (the beams on the same spots), a field of wall
+// pieces at the true move. Refinement only, from the odometry prediction.
+TEST(ScanMatcherRefinementTest, FollowsASmallMoveAgainstThePreviousScan) {
+  const testing::SegmentWorld world = testing::FurnishedRoom();
+  const Rigid2d before(-1.0, 0.5, 0.3);
+  MatchGridOptions grid_options;
+  MatchGrid grid(grid_options);
+  grid.AddPoints(ToPointsInRobotFrame(testing::SimulateScan(world, before)), before);
+  ScanMatcherOptions options;
+  options.use_correlative_search = false;
+  options.refinement.prior_translation_sigma = 0.2;
+  options.refinement.prior_rotation_sigma = 0.1;
+  for (const Rigid2d& move : {Rigid2d(0.03, 0.0, 0.0), Rigid2d(0.05, 0.01, 0.01), Rigid2d(0.0, -0.04, 0.0)}) {
+    const Rigid2d truth = before * move;
+    const std::vector<Eigen::Vector2f> points =
+        VoxelFilter(ToPointsInRobotFrame(testing::SimulateScan(world, truth)), 0.05f);
+    const Rigid2d predicted = truth * Rigid2d(0.01, -0.01, 0.005);
+    const auto match = MatchScan(points, grid, nullptr, predicted, predicted, options);
+    ASSERT_TRUE(match.has_value());
+    EXPECT_THAT(match->pose, IsNearPose(truth, 0.005, 0.1 * kDegree)) << move;
+  }
+}
+
 // Two long parallel walls and nothing else: the scan fixes y and theta but says nothing about x.
 TEST(ScanMatcherCorridorTest, FeaturelessCorridorKeepsThePriorAlongItsAxis) {
   testing::SegmentWorld corridor = {{Eigen::Vector2d(-50.0, -1.0), Eigen::Vector2d(50.0, -1.0)},
