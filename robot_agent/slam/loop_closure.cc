@@ -10,6 +10,12 @@
 
 namespace fleetmap {
 
+MatchGridOptions LoopClosureOptions::DefaultGrid() {
+  MatchGridOptions options;
+  options.track_observed = true;
+  return options;
+}
+
 CorrelativeSearchOptions LoopClosureOptions::DefaultSearch() {
   CorrelativeSearchOptions options;
   options.linear_window = 5.0;
@@ -29,6 +35,21 @@ PoseRefinementOptions LoopClosureOptions::DefaultRefinement() {
 }
 
 LoopClosure::LoopClosure(const LoopClosureOptions& options) : options_(options) {}
+
+namespace {
+
+// The points (robot frame) that land, at `robot_in_submap`, in cells the submap's scans saw.
+std::vector<Eigen::Vector2f> PointsLandingOnSeenCells(const std::vector<Eigen::Vector2f>& points,
+                                                      const MatchGrid& grid, const Rigid2d& robot_in_submap) {
+  std::vector<Eigen::Vector2f> seen;
+  seen.reserve(points.size());
+  for (const Eigen::Vector2f& p : points) {
+    if (grid.Observed(robot_in_submap * Eigen::Vector2d(p.cast<double>()))) seen.push_back(p);
+  }
+  return seen;
+}
+
+}  // namespace
 
 int LoopClosure::SubmapIndex(int64_t submap_id, const Rigid2d& submap_in_local) {
   const auto found = submap_index_.find(submap_id);
@@ -121,8 +142,10 @@ void LoopClosure::SearchLoops(int node, const std::vector<Eigen::Vector2f>& poin
     const std::optional<CorrelativeMatch> coarse =
         SearchBranchAndBound(search_points, *target.pyramid, guess, search);
     if (!coarse) continue;
+    const std::vector<Eigen::Vector2f> seen = PointsLandingOnSeenCells(points, *target.grid, coarse->pose);
+    if (seen.size() < options_.min_observed_fraction * static_cast<double>(points.size())) continue;
     const PoseRefinement refined =
-        RefinePose(points, *target.grid, coarse->pose, coarse->pose, options_.refinement);
+        RefinePose(seen, *target.grid, coarse->pose, coarse->pose, options_.refinement);
     if (!refined.pose.IsFinite() || refined.score < options_.min_refined_score ||
         refined.inlier_fraction < options_.min_inlier_fraction) {
       continue;

@@ -20,8 +20,10 @@ namespace fleetmap {
 
 struct LoopClosureOptions {
   bool enabled = true;
-  // Loop-closure targets: one distance grid per submap, in the submap frame.
-  MatchGridOptions grid;
+  // Loop-closure targets: one distance grid per submap, in the submap frame. They remember the
+  // space their scans saw, so that a node's returns where the submap saw nothing (the far side
+  // of a box, round a corner) neither count against the true match nor for a wrong one.
+  MatchGridOptions grid = DefaultGrid();
   int pyramid_levels = 7;
   // Returns farther than this stay out of the targets and the searches (metres).
   float max_range = 15.0f;
@@ -46,9 +48,12 @@ struct LoopClosureOptions {
   double min_linear_window = 3.5;
   double linear_window_per_metre = 0.02;
   PoseRefinementOptions refinement = DefaultRefinement();
-  // Strict gates: a wrong loop closure hurts more than a missed one.
+  // Strict gates: a wrong loop closure hurts more than a missed one. Score and inliers are over
+  // the node's points that land where the submap saw something; at least min_observed_fraction
+  // of them must.
   double min_refined_score = 0.65;
   double min_inlier_fraction = 0.8;
+  double min_observed_fraction = 0.6;
   // A match only becomes a constraint once at least `min_agreeing` matches of nodes searched
   // within `candidate_lifetime_nodes` (itself included) imply the same correction of the current
   // estimate, within these tolerances: wrong matches (repeating structure, partial overlap)
@@ -77,6 +82,7 @@ struct LoopClosureOptions {
   int optimize_every_nodes = 60;
   PoseGraphOptions graph;
 
+  static MatchGridOptions DefaultGrid();
   static CorrelativeSearchOptions DefaultSearch();
   static PoseRefinementOptions DefaultRefinement();
 };

@@ -63,7 +63,6 @@ std::optional<CorrelativeMatch> SearchBruteForce(const std::vector<Eigen::Vector
   const int window = static_cast<int>(std::ceil(options.linear_window / res));
   const std::vector<DiscreteScan> scans =
       DiscretizeScans(points, guess, grid.origin(), res, step, angle_steps);
-  const float max_squared = static_cast<float>(grid.max_squared_distance());
   const double n = static_cast<double>(points.size());
   std::optional<CorrelativeMatch> best;
   double best_penalised = -1.0;
@@ -73,7 +72,7 @@ std::optional<CorrelativeMatch> SearchBruteForce(const std::vector<Eigen::Vector
       for (int dx = -window; dx <= window; ++dx) {
         double sum = 0.0;
         for (const Eigen::Array2i& c : scan.cells) {
-          sum += SquaredDistanceScore(grid.CellSquaredDistance(c.x() + dx, c.y() + dy), max_squared);
+          sum += grid.CellScore(c.x() + dx, c.y() + dy);
         }
         const double score = sum / n;
         const double lin2 = (dx * dx + dy * dy) * res * res;

@@ -70,7 +70,7 @@ MatchGrid MatchGrid::FromPoints(const std::vector<Eigen::Vector2d>& points,
   for (const Eigen::Vector2d& p : points) {
     if (p.allFinite()) finite.push_back(p);
   }
-  grid.AddBatch(finite);
+  grid.AddBatch(finite, nullptr);
   return grid;
 }
 
@@ -90,15 +90,21 @@ void MatchGrid::AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
     const Eigen::Vector2d q = frame_in_map * Eigen::Vector2d(p.cast<double>());
     if (q.allFinite()) points.push_back(q);
   }
-  AddBatch(points);
+  const Eigen::Vector2d origin = frame_in_map.translation();
+  AddBatch(points, &origin);
 }
 
-void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points) {
+void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d* origin) {
   if (points.empty()) return;
+  const bool trace = options_.track_observed && origin != nullptr && origin->allFinite();
   Eigen::Vector2d lo = points.front(), hi = points.front();
   for (const Eigen::Vector2d& p : points) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
+  }
+  if (trace) {
+    lo = lo.cwiseMin(*origin);
+    hi = hi.cwiseMax(*origin);
   }
   // Wall pieces reach a little past their points.
   const Eigen::Vector2d reach = Eigen::Vector2d::Constant(options_.surface.max_extent);
@@ -106,6 +112,34 @@ void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points) {
   for (const SurfaceElement& element : FitSurfaceElements(points, options_.resolution, options_.surface)) {
     Stamp(element);
   }
+  if (trace) {
+    for (const Eigen::Vector2d& p : points) MarkRay(*origin, p);
+  }
+}
+
+void MatchGrid::MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+  // Samples every half cell from the origin to the point, the point's cell included.
+  const double r = options_.resolution;
+  const Eigen::Vector2d a = (from - origin_) / r, b = (to - origin_) / r;
+  const int steps = static_cast<int>(std::ceil(2.0 * (b - a).norm())) + 1;
+  for (int i = 0; i <= steps; ++i) {
+    const Eigen::Vector2d g = a + (b - a) * (static_cast<double>(i) / steps);
+    if (!(g.x() >= 0.0 && g.y() >= 0.0 && g.x() < width_ && g.y() < height_)) continue;
+    observed_[static_cast<size_t>(g.y()) * static_cast<size_t>(width_) + static_cast<size_t>(g.x())] = 1;
+  }
+}
+
+bool MatchGrid::Observed(const Eigen::Vector2d& point) const {
+  if (!options_.track_observed) return true;
+  const Eigen::Vector2d g = (point - origin_) / options_.resolution;
+  if (!(g.x() >= 0.0 && g.y() >= 0.0 && g.x() < width_ && g.y() < height_)) return false;
+  return CellObserved(static_cast<int>(g.x()), static_cast<int>(g.y()));
+}
+
+float MatchGrid::CellScore(int x, int y) const {
+  if (x < 0 || y < 0 || x >= width_ || y >= height_) return 0.0f;  // as the pyramid reads it
+  const float score = SquaredDistanceScore(CellSquaredDistance(x, y), max_squared_);
+  return CellObserved(x, y) ? score : std::max(score, options_.unknown_score);
 }
 
 void MatchGrid::GrowToInclude(const Eigen::Vector2d& min_point, const Eigen::Vector2d& max_point) {
@@ -137,18 +171,23 @@ void MatchGrid::GrowToInclude(const Eigen::Vector2d& min_point, const Eigen::Vec
   const size_t n = static_cast<size_t>(new_width) * static_cast<size_t>(new_height);
   std::vector<float> squared(n, max_squared_);
   std::vector<uint8_t> has_point(n, 0);
+  std::vector<uint8_t> observed(options_.track_observed ? n : 0, 0);
   for (int y = 0; y < height_; ++y) {
     const size_t src = static_cast<size_t>(y) * static_cast<size_t>(width_);
     const size_t dst = static_cast<size_t>(y - lo.y()) * static_cast<size_t>(new_width) +
                        static_cast<size_t>(-lo.x());
     std::copy_n(squared_.begin() + static_cast<long>(src), width_, squared.begin() + static_cast<long>(dst));
     std::copy_n(has_point_.begin() + static_cast<long>(src), width_, has_point.begin() + static_cast<long>(dst));
+    if (options_.track_observed) {
+      std::copy_n(observed_.begin() + static_cast<long>(src), width_, observed.begin() + static_cast<long>(dst));
+    }
   }
   origin_ += r * lo.cast<double>().matrix();
   width_ = new_width;
   height_ = new_height;
   squared_ = std::move(squared);
   has_point_ = std::move(has_point);
+  observed_ = std::move(observed);
 }
 
 void MatchGrid::Stamp(const SurfaceElement& element) {

@@ -13,6 +13,13 @@
 
 namespace fleetmap {
 
+// Per-point score of a squared distance: 1 on an obstacle, falling to 0 at max_distance
+// (1 - d^2 / max^2, an Epanechnikov kernel).
+inline float SquaredDistanceScore(float squared_distance, float max_squared_distance) {
+  return squared_distance >= max_squared_distance ? 0.0f
+                                                  : 1.0f - squared_distance / max_squared_distance;
+}
+
 struct MatchGridOptions {
   double resolution = 0.05;  // metres per cell
   // Distances are clamped here; it is also how far around each obstacle point the grid is
@@ -21,6 +28,12 @@ struct MatchGridOptions {
   // Points added in one batch are fitted to the walls they lie on (see FitSurfaceElements), and
   // the field holds the distance to those short wall pieces rather than to the sampled points.
   SurfaceFitOptions surface;
+  // Remember which cells the scans have seen (the rays from each batch's origin to its points,
+  // and the points' cells). A point in a cell no scan has seen then scores unknown_score instead
+  // of 0: the target cannot say whether a wall is there. Without it, a scan seen from the other
+  // side of a box or round a corner matches best where its unseen parts land on seen walls.
+  bool track_observed = false;
+  float unknown_score = 0.4f;
 };
 
 // The target a scan is matched against: for every cell centre, the squared distance (m^2,
@@ -71,13 +84,27 @@ class MatchGrid {
   // Interpolated distance (metres).
   double Distance(const Eigen::Vector2d& point) const;
 
+  // Whether any scan saw the cell; always true when observed cells are not tracked.
+  bool CellObserved(int x, int y) const {
+    if (!options_.track_observed) return true;
+    if (x < 0 || y < 0 || x >= width_ || y >= height_) return false;
+    return observed_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)] != 0;
+  }
+  // Whether any scan saw the cell holding `point` (true when not tracked).
+  bool Observed(const Eigen::Vector2d& point) const;
+  // Per-cell score for correlative search, 0..1: 1 - d^2 / max^2 near obstacles, at least
+  // unknown_score in cells no scan saw (see MatchGridOptions::track_observed).
+  float CellScore(int x, int y) const;
+
   // Row-major squared distances, index = y * width + x.
   const std::vector<float>& squared_distances() const { return squared_; }
 
  private:
   void GrowToInclude(const Eigen::Vector2d& min, const Eigen::Vector2d& max);
-  // Fits the batch to its walls and stamps every element (grows the grid first).
-  void AddBatch(const std::vector<Eigen::Vector2d>& points);
+  // Fits the batch to its walls and stamps every element (grows the grid first). With
+  // track_observed, also marks the rays from `origin` to the points as seen.
+  void AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d* origin);
+  void MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to);
   void Stamp(const SurfaceElement& element);
 
   MatchGridOptions options_;
@@ -88,6 +115,7 @@ class MatchGrid {
   float max_squared_ = 0.0f;
   std::vector<float> squared_;
   std::vector<uint8_t> has_point_;  // 1 where a cell already holds an obstacle point
+  std::vector<uint8_t> observed_;   // 1 where a scan saw the cell (track_observed only)
 };
 
 }  // namespace fleetmap

@@ -14,10 +14,11 @@ MatchGridPyramid::MatchGridPyramid(const MatchGrid& grid, int levels)
   base.width = base_width_;
   base.height = base_height_;
   base.cells.resize(static_cast<size_t>(base.width) * static_cast<size_t>(base.height));
-  const float max_squared = static_cast<float>(grid.max_squared_distance());
-  const std::vector<float>& squared = grid.squared_distances();
-  for (size_t i = 0; i < base.cells.size(); ++i) {
-    base.cells[i] = static_cast<uint8_t>(255.0f * SquaredDistanceScore(squared[i], max_squared) + 0.5f);
+  for (int y = 0; y < base.height; ++y) {
+    for (int x = 0; x < base.width; ++x) {
+      base.cells[static_cast<size_t>(y) * static_cast<size_t>(base.width) + static_cast<size_t>(x)] =
+          static_cast<uint8_t>(255.0f * grid.CellScore(x, y) + 0.5f);
+    }
   }
   levels_.push_back(std::move(base));
   // Doubling: the block [i - 2k + 1, i] is the union of [i - k + 1, i] and [i - 2k + 1, i - k],

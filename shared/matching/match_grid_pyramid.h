@@ -10,13 +10,6 @@
 
 namespace fleetmap {
 
-// Per-point score of a squared distance: 1 on an obstacle, falling to 0 at max_distance
-// (1 - d^2 / max^2, an Epanechnikov kernel).
-inline float SquaredDistanceScore(float squared_distance, float max_squared_distance) {
-  return squared_distance >= max_squared_distance ? 0.0f
-                                                  : 1.0f - squared_distance / max_squared_distance;
-}
-
 // Max-pooled score grids for branch-and-bound search. Level d answers "what is the best score
 // any translation in a block of 2^d x 2^d cells could give this point", so a whole block of
 // candidate translations is bounded by one lookup per point. Scores are stored as bytes

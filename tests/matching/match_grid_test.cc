@@ -97,6 +97,35 @@ TEST(MatchGridTest, WallPiecesStopAtTheWallsEnd) {
   EXPECT_NEAR(grid.Distance(Eigen::Vector2d(-0.1, 0.0)), 0.1, 0.01);
 }
 
+// With observed cells tracked, the search score tells seen free space (0: no wall can be there)
+// from space no scan saw (unknown_score), and keeps the distance score near walls.
+TEST(MatchGridTest, TrackedGridScoresUnseenCellsAsUnknown) {
+  MatchGridOptions options;
+  options.track_observed = true;
+  MatchGrid grid(options);
+  std::vector<Eigen::Vector2f> wall;  // a wall 3 m ahead of a robot at the origin
+  for (int i = -20; i <= 20; ++i) wall.emplace_back(3.0f, 0.05f * static_cast<float>(i));
+  grid.AddPoints(wall, Rigid2d());
+  auto cell_of = [&](double x, double y) {
+    return Eigen::Array2i(static_cast<int>(std::floor((x - grid.origin().x()) / grid.resolution())),
+                          static_cast<int>(std::floor((y - grid.origin().y()) / grid.resolution())));
+  };
+  const Eigen::Array2i free_cell = cell_of(1.5, 0.0), wall_cell = cell_of(3.0, 0.3);
+  const Eigen::Array2i behind = cell_of(3.8, 0.0), beside = cell_of(1.5, 2.0);
+  EXPECT_TRUE(grid.Observed(Eigen::Vector2d(1.5, 0.0)));
+  EXPECT_FLOAT_EQ(grid.CellScore(free_cell.x(), free_cell.y()), 0.0f);
+  EXPECT_GT(grid.CellScore(wall_cell.x(), wall_cell.y()), 0.9f);
+  EXPECT_FALSE(grid.Observed(Eigen::Vector2d(3.8, 0.0)));
+  EXPECT_FLOAT_EQ(grid.CellScore(behind.x(), behind.y()), options.unknown_score);
+  EXPECT_FLOAT_EQ(grid.CellScore(beside.x(), beside.y()), options.unknown_score);
+  // Untracked grids score seen and unseen space alike.
+  const MatchGrid plain = MatchGrid::FromPoints({Eigen::Vector2d(3.0, 0.0), Eigen::Vector2d(3.0, 0.05),
+                                                 Eigen::Vector2d(3.0, 0.1)}, MatchGridOptions());
+  const Eigen::Vector2d g = (Eigen::Vector2d(1.5, 0.0) - plain.origin()) / plain.resolution();
+  EXPECT_TRUE(plain.Observed(Eigen::Vector2d(1.5, 0.0)));
+  EXPECT_FLOAT_EQ(plain.CellScore(static_cast<int>(g.x()), static_cast<int>(g.y())), 0.0f);
+}
+
 TEST(MatchGridTest, GrowingKeepsEarlierPoints) {
   MatchGrid grid;
   grid.AddPoint(Eigen::Vector2d(0.0, 0.0));
