@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace fleetmap {
 namespace {
@@ -118,14 +119,29 @@ void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen
 }
 
 void MatchGrid::MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
-  // Samples every half cell from the origin to the point, the point's cell included.
-  const double r = options_.resolution;
-  const Eigen::Vector2d a = (from - origin_) / r, b = (to - origin_) / r;
-  const int steps = static_cast<int>(std::ceil(2.0 * (b - a).norm())) + 1;
-  for (int i = 0; i <= steps; ++i) {
-    const Eigen::Vector2d g = a + (b - a) * (static_cast<double>(i) / steps);
-    if (!(g.x() >= 0.0 && g.y() >= 0.0 && g.x() < width_ && g.y() < height_)) continue;
-    observed_[static_cast<size_t>(g.y()) * static_cast<size_t>(width_) + static_cast<size_t>(g.x())] = 1;
+  // Every cell the segment crosses, in order (Amanatides-Woo), the point's cell included.
+  const Eigen::Vector2d a = (from - origin_) / options_.resolution, b = (to - origin_) / options_.resolution;
+  const Eigen::Vector2d d = b - a;
+  int x = static_cast<int>(std::floor(a.x())), y = static_cast<int>(std::floor(a.y()));
+  const int end_x = static_cast<int>(std::floor(b.x())), end_y = static_cast<int>(std::floor(b.y()));
+  const int step_x = d.x() > 0.0 ? 1 : -1, step_y = d.y() > 0.0 ? 1 : -1;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double delta_x = d.x() != 0.0 ? std::abs(1.0 / d.x()) : inf;
+  const double delta_y = d.y() != 0.0 ? std::abs(1.0 / d.y()) : inf;
+  double next_x = d.x() != 0.0 ? ((step_x > 0 ? x + 1.0 : x) - a.x()) / d.x() : inf;
+  double next_y = d.y() != 0.0 ? ((step_y > 0 ? y + 1.0 : y) - a.y()) / d.y() : inf;
+  const int cells = std::abs(end_x - x) + std::abs(end_y - y);
+  for (int i = 0; i <= cells; ++i) {
+    if (x >= 0 && y >= 0 && x < width_ && y < height_) {
+      observed_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)] = 1;
+    }
+    if (next_x < next_y) {
+      next_x += delta_x;
+      x += step_x;
+    } else {
+      next_y += delta_y;
+      y += step_y;
+    }
   }
 }
 
