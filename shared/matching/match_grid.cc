@@ -113,6 +113,11 @@ void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen
   for (const SurfaceElement& element : FitSurfaceElements(points, options_.resolution, options_.surface)) {
     Stamp(element);
   }
+  if (origin != nullptr && origin->allFinite() && options_.join_scan_returns) {
+    for (const SurfaceElement& segment : JoinConsecutiveReturns(points, *origin, options_.scan_segments)) {
+      Stamp(segment);
+    }
+  }
   if (trace) {
     for (const Eigen::Vector2d& p : points) MarkRay(*origin, p);
   }

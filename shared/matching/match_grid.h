@@ -9,6 +9,7 @@
 #include "shared/core/likelihood_field.h"
 #include "shared/core/occupancy_grid.h"
 #include "shared/core/rigid2d.h"
+#include "shared/matching/scan_segments.h"
 #include "shared/matching/surface_elements.h"
 
 namespace fleetmap {
@@ -28,6 +29,10 @@ struct MatchGridOptions {
   // Points added in one batch are fitted to the walls they lie on (see FitSurfaceElements), and
   // the field holds the distance to those short wall pieces rather than to the sampled points.
   SurfaceFitOptions surface;
+  // Batches added with AddPoints are scans in beam order: consecutive returns on one surface
+  // but far apart are also joined by segments (see JoinConsecutiveReturns).
+  bool join_scan_returns = true;
+  ScanSegmentOptions scan_segments;
   // Remember which cells the scans have seen (the rays from each batch's origin to its points,
   // and the points' cells). A point in a cell no scan has seen then scores unknown_score instead
   // of 0: the target cannot say whether a wall is there. Without it, a scan seen from the other
@@ -67,8 +72,8 @@ class MatchGrid {
   // falls in a cell represents it; later ones in the same cell are ignored, so re-observing a
   // wall costs almost nothing.
   void AddPoint(const Eigen::Vector2d& point);
-  // Adds `points_in_frame` transformed by `frame_in_map`, fitted to the walls they lie on; grows
-  // the grid once for all of them.
+  // Adds a scan's `points_in_frame` (in beam order, seen from the frame's origin) transformed by
+  // `frame_in_map`, fitted to the walls they lie on; grows the grid once for all of them.
   void AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame, const Rigid2d& frame_in_map);
 
   double max_squared_distance() const { return options_.max_distance * options_.max_distance; }

@@ -117,6 +117,32 @@ TEST(ScanMatchingSlamTest, KeepsItsDistanceWhenACorridorsEndComesIntoRange) {
   EXPECT_THAT(slam.CurrentPose(), IsNearPose(truth, 0.03, 0.2 * kDegree));
 }
 
+// Driving a plain corridor off its centre line with exact odometry: the frontend used to turn by
+// 0.005 deg per metre (1 deg per 200 m; most of the building lap's 3 m end error). Far down the
+// near wall the returns are tens of centimetres apart, each new scan's beams hit it just as far
+// along as the robot moved, and isolated returns held it back unevenly on the two walls; consecutive
+// returns are now joined into wall segments (JoinConsecutiveReturns).
+TEST(ScanMatchingSlamTest, HoldsItsHeadingOffTheCentreOfALongCorridor) {
+  const testing::SegmentWorld corridor = {{Eigen::Vector2d(-2.0, -1.2), Eigen::Vector2d(120.0, -1.2)},
+                                          {Eigen::Vector2d(-2.0, 1.2), Eigen::Vector2d(120.0, 1.2)}};
+  ScanMatchingSlamOptions options;
+  options.loop_closure.enabled = false;
+  ScanMatchingSlam slam(options);
+  std::string error;
+  Rigid2d truth;
+  for (int i = 0; i <= 1250; ++i) {
+    const double t = 0.1 * i;
+    truth = Rigid2d(0.08 * i, -0.4, 0.0);
+    ASSERT_TRUE(slam.AddOdometry({t, truth}, &error)) << error;
+    LaserScan scan = testing::SimulateScan(corridor, truth, 181, static_cast<float>(-M_PI / 2),
+                                           static_cast<float>(M_PI / 180), 8.0f);
+    scan.timestamp = t;
+    ASSERT_TRUE(slam.AddScan(scan, &error)) << error;
+  }
+  const Rigid2d start(0.0, -0.4, 0.0);
+  EXPECT_THAT(slam.CurrentPose(), IsNearPose(start.inverse() * truth, 0.1, 0.1 * kDegree));
+}
+
 TEST(ScanMatchingSlamTest, RejectsTimeGoingBackwards) {
   const testing::SegmentWorld world = testing::CorridorRing();
   ScanMatchingSlam slam;
