@@ -22,6 +22,7 @@ ParticleScan ScanAt(const Rigid2d& pose, bool with_points = true) {
   const LaserScan scan = testing::SimulateScan(Room(), pose, 361, -M_PI, M_PI / 180, 15.0f);
   ParticleScan out;
   if (with_points) out.match_points = VoxelFilter(ToPointsInRobotFrame(scan), 0.1f);
+  out.weight_points = out.match_points;
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     if (!std::isfinite(scan.ranges[i])) continue;
     const double a = scan.angle(static_cast<int>(i));
@@ -79,6 +80,7 @@ ParticleScan CorridorScan(const Rigid2d& pose) {
   const LaserScan scan = testing::SimulateScan(Corridor(), pose, 361, -M_PI, M_PI / 180, 4.0f);
   ParticleScan out;
   out.match_points = VoxelFilter(ToPointsInRobotFrame(scan), 0.1f);
+  out.weight_points = out.match_points;
   for (size_t i = 0; i < scan.ranges.size(); ++i) {
     if (!std::isfinite(scan.ranges[i])) continue;
     const double a = scan.angle(static_cast<int>(i));
