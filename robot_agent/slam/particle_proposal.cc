@@ -64,7 +64,8 @@ ProposalDraw DrawPose(const Rigid2d& pose, const Rigid2d& motion, const Rigid2d&
   // kept there: the pose keeps `start`'s translation along it.
   auto keep_observed = [&](const Rigid2d& start, const Rigid2d& candidate) {
     if (options.min_observed_normals <= 0.0) return candidate;
-    return KeepObservedDirections(start, candidate, scan.normal_scatter, options.min_observed_normals);
+    return KeepObservedDirections(start, candidate, scan.normal_scatter,
+                                  options.min_observed_normals);
   };
   ProposalDraw draw;
   if (options.proposal == ParticleProposal::kImprovedProposal) {
@@ -83,8 +84,9 @@ ProposalDraw DrawPose(const Rigid2d& pose, const Rigid2d& motion, const Rigid2d&
                                          j * options.lattice_step_translation,
                                          k * options.lattice_step_rotation);
             const Rigid2d candidate = match.pose * Rigid2d(offset.x(), offset.y(), offset.z());
-            const double w = gain * ScanLogLikelihood(scan.weight_points, map, candidate, options.matcher) +
-                             MotionLogDensity(pose, motion, candidate, options);
+            const double w =
+                gain * ScanLogLikelihood(scan.weight_points, map, candidate, options.matcher) +
+                MotionLogDensity(pose, motion, candidate, options);
             offsets.push_back(offset);
             log_w.push_back(w);
             max_log_w = std::max(max_log_w, w);
@@ -116,7 +118,8 @@ ProposalDraw DrawPose(const Rigid2d& pose, const Rigid2d& motion, const Rigid2d&
     }
   }
   draw.pose = keep_observed(pose * motion, SampleMotion(pose, motion, options, rng));
-  draw.log_weight_increment = gain * ScanLogLikelihood(scan.weight_points, map, draw.pose, options.matcher);
+  draw.log_weight_increment =
+      gain * ScanLogLikelihood(scan.weight_points, map, draw.pose, options.matcher);
   return draw;
 }
 

@@ -45,7 +45,8 @@ bool ParticleSlam::AddOdometry(const StampedPose& odometry, std::string* error) 
   return true;
 }
 
-ParticleSlam::PreparedScan ParticleSlam::Prepare(const LaserScan& scan, const Rigid2d& predicted) const {
+ParticleSlam::PreparedScan ParticleSlam::Prepare(const LaserScan& scan,
+                                                 const Rigid2d& predicted) const {
   PreparedScan prepared;
   prepared.limited = scan;
   for (float& range : prepared.limited.ranges) {
@@ -74,14 +75,15 @@ ParticleSlam::PreparedScan ParticleSlam::Prepare(const LaserScan& scan, const Ri
   return prepared;
 }
 
-std::vector<Eigen::Vector2f> ParticleSlam::InsideRecentHorizons(const std::vector<Eigen::Vector2f>& returns,
-                                                               const Rigid2d& predicted) const {
+std::vector<Eigen::Vector2f> ParticleSlam::InsideRecentHorizons(
+    const std::vector<Eigen::Vector2f>& returns, const Rigid2d& predicted) const {
   if (keyframe_views_.empty() || keyframe_views_.size() != keyframe_poses_.size()) return returns;
   const size_t recent = static_cast<size_t>(std::max(1, options_.tracker.keyframes));
   const size_t first = keyframe_views_.size() > recent ? keyframe_views_.size() - recent : 0;
   std::vector<std::pair<Eigen::Vector2d, double>> views;  // sensor in map, squared reach
   for (size_t k = first; k < keyframe_views_.size(); ++k) {
-    const double reach = std::max(0.0, static_cast<double>(keyframe_views_[k].horizon - options_.match_range_margin));
+    const double reach = std::max(
+        0.0, static_cast<double>(keyframe_views_[k].horizon - options_.match_range_margin));
     views.emplace_back(keyframe_poses_[k] * keyframe_views_[k].sensor_in_robot, reach * reach);
   }
   std::vector<Eigen::Vector2f> inside;
@@ -124,18 +126,20 @@ bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
     AddKeyframe(prepared.limited, std::move(prepared.tracker_map));
   } else {
     odometry_since_update_ = odometry_since_update_ * odometry_delta;
-    std::optional<Rigid2d> tracked = tracker_.Track(prepared.tracker_match, predicted, filter_scan.normal_scatter);
+    std::optional<Rigid2d> tracked =
+        tracker_.Track(prepared.tracker_match, predicted, filter_scan.normal_scatter);
     if (!tracked) {
-      const ParticleMatch match =
-          MatchAgainstTiles(filter_scan.match_points, filter_.best().map, predicted, options_.tracking);
+      const ParticleMatch match = MatchAgainstTiles(filter_scan.match_points, filter_.best().map,
+                                                    predicted, options_.tracking);
       if (match.good) tracked = match.pose;
     }
     current_pose_ = tracked ? *tracked : predicted;
     ++(tracked ? tracked_ : tracking_failures_);
     const Rigid2d tracked_motion = keyframe_poses_.back().inverse() * current_pose_;
     const Rigid2d motion = options_.scan_matched_motion ? tracked_motion : odometry_since_update_;
-    if (!filter_scan.weight_points.empty() && (motion.translation().norm() >= options_.update_translation ||
-                                               std::abs(motion.rotation()) >= options_.update_rotation)) {
+    if (!filter_scan.weight_points.empty() &&
+        (motion.translation().norm() >= options_.update_translation ||
+         std::abs(motion.rotation()) >= options_.update_rotation)) {
       filter_.Update(motion, tracked_motion, filter_scan);
       odometry_since_update_ = Rigid2d();
       AddKeyframe(prepared.limited, std::move(prepared.tracker_map));
@@ -147,8 +151,8 @@ bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
 }
 
 void ParticleSlam::AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points) {
-  const float horizon =
-      std::min(options_.max_range, limited.range_max > 0.0f ? limited.range_max : options_.max_range);
+  const float horizon = std::min(options_.max_range,
+                                 limited.range_max > 0.0f ? limited.range_max : options_.max_range);
   keyframe_views_.push_back({limited.sensor_in_robot.translation(), horizon});
   submaps_.AddKeyframe(limited);
   tracker_.AddKeyframe(std::move(tracker_points));

@@ -47,7 +47,8 @@ std::optional<Rigid2d> ParticleTracker::Track(const std::vector<Eigen::Vector2f>
   }
   if (!match) return std::nullopt;
   if (options_.min_observed_normals <= 0.0) return match->pose;
-  return KeepObservedDirections(predicted, match->pose, normal_scatter, options_.min_observed_normals);
+  return KeepObservedDirections(predicted, match->pose, normal_scatter,
+                                options_.min_observed_normals);
 }
 
 }  // namespace fleetmap

@@ -39,8 +39,9 @@ ParticleScan ScanAt(const Rigid2d& pose, bool with_points = true) {
 // letting the match slide (here, with every return matched, the ICP pulled it 0.1-0.2 m back
 // towards the map's wall ends) or sampled noise walk. Across the corridor the scan decides.
 TEST(ParticleFilterTest, ProposalsKeepThePredictionAlongAPlainCorridor) {
-  const testing::SegmentWorld corridor = {{Eigen::Vector2d(-1.0, -1.0), Eigen::Vector2d(40.0, -1.0)},
-                                          {Eigen::Vector2d(-1.0, 1.0), Eigen::Vector2d(40.0, 1.0)}};
+  const testing::SegmentWorld corridor = {
+      {Eigen::Vector2d(-1.0, -1.0), Eigen::Vector2d(40.0, -1.0)},
+      {Eigen::Vector2d(-1.0, 1.0), Eigen::Vector2d(40.0, 1.0)}};
   auto scan_at = [&](const Rigid2d& pose) {
     const LaserScan scan = testing::SimulateScan(corridor, pose, 181, -M_PI / 2, M_PI / 180, 8.0f);
     ParticleScan out;
@@ -56,7 +57,8 @@ TEST(ParticleFilterTest, ProposalsKeepThePredictionAlongAPlainCorridor) {
     }
     return out;
   };
-  for (ParticleProposal proposal : {ParticleProposal::kImprovedProposal, ParticleProposal::kMotionModel}) {
+  for (ParticleProposal proposal :
+       {ParticleProposal::kImprovedProposal, ParticleProposal::kMotionModel}) {
     ParticleFilterOptions options;
     options.proposal = proposal;
     SharedTileGrid map(options.grid, 1);

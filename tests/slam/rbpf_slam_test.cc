@@ -153,10 +153,12 @@ TEST(RbpfSlamTest, SameSeedAndThreadsGiveIdenticalResults) {
 // near the horizon land past the map's wall ends and used to pull every match (tracker and
 // proposal) back towards the previous pose.
 TEST(RbpfSlamTest, KeepsItsDistanceWhenACorridorsEndComesIntoRange) {
-  const testing::SegmentWorld corridor = {{Eigen::Vector2d(-1.0, -1.0), Eigen::Vector2d(25.0, -1.0)},
-                                          {Eigen::Vector2d(-1.0, 1.0), Eigen::Vector2d(25.0, 1.0)},
-                                          {Eigen::Vector2d(25.0, -1.0), Eigen::Vector2d(25.0, 1.0)}};
-  for (ParticleSlamOptions options : {ParticleSlamOptions::Rbpf(), ParticleSlamOptions::FastSlam()}) {
+  const testing::SegmentWorld corridor = {
+      {Eigen::Vector2d(-1.0, -1.0), Eigen::Vector2d(25.0, -1.0)},
+      {Eigen::Vector2d(-1.0, 1.0), Eigen::Vector2d(25.0, 1.0)},
+      {Eigen::Vector2d(25.0, -1.0), Eigen::Vector2d(25.0, 1.0)}};
+  for (ParticleSlamOptions options :
+       {ParticleSlamOptions::Rbpf(), ParticleSlamOptions::FastSlam()}) {
     ParticleSlam slam(options);
     std::string error;
     Rigid2d truth;
@@ -172,7 +174,8 @@ TEST(RbpfSlamTest, KeepsItsDistanceWhenACorridorsEndComesIntoRange) {
     // The distance travelled is the point (before the fix the RBPF ended at x = 4 m). Across
     // the corridor and in heading both filters random-walk (sampled proposals; the RBPF's
     // spreads ~0.3 degrees per update), hence the loose pose tolerance.
-    EXPECT_NEAR(slam.CurrentPose().x(), truth.x(), 0.05) << options.name << ": " << slam.Statistics();
+    EXPECT_NEAR(slam.CurrentPose().x(), truth.x(), 0.05)
+        << options.name << ": " << slam.Statistics();
     EXPECT_THAT(slam.CurrentPose(), IsNearPose(truth, 0.4, 3.0 * kDegree)) << options.name;
   }
 }
