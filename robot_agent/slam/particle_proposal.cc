@@ -5,6 +5,8 @@
 
 #include <Eigen/Cholesky>
 
+#include "robot_agent/slam/degeneracy.h"
+
 namespace fleetmap {
 namespace {
 
@@ -57,9 +59,19 @@ ProposalDraw DrawPose(const Rigid2d& pose, const Rigid2d& motion, const Rigid2d&
                       const SharedTileGrid& map, const ParticleFilterOptions& options,
                       std::mt19937_64* rng) {
   const double gain = options.observation_gain;
+  // Along a direction the scan does not observe (a plain corridor's axis) neither the match nor
+  // the weights can correct a pose, so neither a match sliding along it nor sampled noise is
+  // kept there: the pose keeps `start`'s translation along it.
+  auto keep_observed = [&](const Rigid2d& start, const Rigid2d& candidate) {
+    if (options.min_observed_normals <= 0.0) return candidate;
+    return KeepObservedDirections(start, candidate, scan.normal_scatter,
+                                  options.min_observed_normals);
+  };
   ProposalDraw draw;
   if (options.proposal == ParticleProposal::kImprovedProposal) {
-    const ParticleMatch match = MatchAgainstTiles(scan.match_points, map, pose * match_motion, options.matcher);
+    const Rigid2d start = pose * match_motion;
+    ParticleMatch match = MatchAgainstTiles(scan.match_points, map, start, options.matcher);
+    if (match.good) match.pose = keep_observed(start, match.pose);
     if (match.good) {
       // Lattice around the mode; offsets in the mode's frame keep angles away from the wrap.
       std::vector<Eigen::Vector3d> offsets;
@@ -72,8 +84,9 @@ ProposalDraw DrawPose(const Rigid2d& pose, const Rigid2d& motion, const Rigid2d&
                                          j * options.lattice_step_translation,
                                          k * options.lattice_step_rotation);
             const Rigid2d candidate = match.pose * Rigid2d(offset.x(), offset.y(), offset.z());
-            const double w = gain * ScanLogLikelihood(scan.match_points, map, candidate, options.matcher) +
-                             MotionLogDensity(pose, motion, candidate, options);
+            const double w =
+                gain * ScanLogLikelihood(scan.weight_points, map, candidate, options.matcher) +
+                MotionLogDensity(pose, motion, candidate, options);
             offsets.push_back(offset);
             log_w.push_back(w);
             max_log_w = std::max(max_log_w, w);
@@ -98,14 +111,15 @@ ProposalDraw DrawPose(const Rigid2d& pose, const Rigid2d& motion, const Rigid2d&
       const Eigen::Matrix3d lower = covariance.llt().matrixL();
       const Eigen::Vector3d z(Gaussian(rng), Gaussian(rng), Gaussian(rng));
       const Eigen::Vector3d sample = mean + lower * z;
-      draw.pose = match.pose * Rigid2d(sample.x(), sample.y(), sample.z());
+      draw.pose = keep_observed(start, match.pose * Rigid2d(sample.x(), sample.y(), sample.z()));
       draw.log_weight_increment = max_log_w + std::log(eta);
       draw.used_scan_match = true;
       return draw;
     }
   }
-  draw.pose = SampleMotion(pose, motion, options, rng);
-  draw.log_weight_increment = gain * ScanLogLikelihood(scan.match_points, map, draw.pose, options.matcher);
+  draw.pose = keep_observed(pose * motion, SampleMotion(pose, motion, options, rng));
+  draw.log_weight_increment =
+      gain * ScanLogLikelihood(scan.weight_points, map, draw.pose, options.matcher);
   return draw;
 }
 

@@ -1,8 +1,10 @@
 #include "robot_agent/slam/particle_slam.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
+#include "robot_agent/slam/degeneracy.h"
 #include "robot_agent/slam/input_order.h"
 #include "shared/matching/point_filter.h"
 
@@ -43,16 +45,21 @@ bool ParticleSlam::AddOdometry(const StampedPose& odometry, std::string* error) 
   return true;
 }
 
-ParticleScan ParticleSlam::Prepare(const LaserScan& scan, LaserScan* limited,
-                                   std::vector<Eigen::Vector2f>* tracker_points) const {
-  ParticleScan out;
-  *limited = scan;
-  for (float& range : limited->ranges) {
+ParticleSlam::PreparedScan ParticleSlam::Prepare(const LaserScan& scan,
+                                                 const Rigid2d& predicted) const {
+  PreparedScan prepared;
+  prepared.limited = scan;
+  for (float& range : prepared.limited.ranges) {
     if (!(range <= options_.max_range)) range = LaserScan::kNoReturn;
   }
-  const std::vector<Eigen::Vector2f> points = RangeFilter(ToPointsInRobotFrame(scan), options_.max_range);
-  out.match_points = VoxelFilter(points, options_.match_voxel);
-  *tracker_points = VoxelFilter(points, options_.tracker_voxel);
+  const std::vector<Eigen::Vector2f> returns = ToPointsInRobotFrame(prepared.limited);
+  const std::vector<Eigen::Vector2f> matched = InsideRecentHorizons(returns, predicted);
+  ParticleScan& out = prepared.filter;
+  out.match_points = VoxelFilter(matched, options_.match_voxel);
+  out.normal_scatter = NormalScatter(matched);
+  out.weight_points = VoxelFilter(returns, options_.match_voxel);
+  prepared.tracker_match = VoxelFilter(matched, options_.tracker_voxel);
+  prepared.tracker_map = VoxelFilter(returns, options_.tracker_voxel);
   out.sensor_origin = scan.sensor_in_robot.translation();
   // Long beams clear space up to max_range without marking a hit; no-return beams are skipped
   // (glass and dropouts).
@@ -65,7 +72,32 @@ ParticleScan ParticleSlam::Prepare(const LaserScan& scan, LaserScan* limited,
     out.ray_ends.push_back(scan.sensor_in_robot * Eigen::Vector2d(r * std::cos(angle), r * std::sin(angle)));
     out.ray_hits.push_back(hit ? 1 : 0);
   }
-  return out;
+  return prepared;
+}
+
+std::vector<Eigen::Vector2f> ParticleSlam::InsideRecentHorizons(
+    const std::vector<Eigen::Vector2f>& returns, const Rigid2d& predicted) const {
+  if (keyframe_views_.empty() || keyframe_views_.size() != keyframe_poses_.size()) return returns;
+  const size_t recent = static_cast<size_t>(std::max(1, options_.tracker.keyframes));
+  const size_t first = keyframe_views_.size() > recent ? keyframe_views_.size() - recent : 0;
+  std::vector<std::pair<Eigen::Vector2d, double>> views;  // sensor in map, squared reach
+  for (size_t k = first; k < keyframe_views_.size(); ++k) {
+    const double reach = std::max(
+        0.0, static_cast<double>(keyframe_views_[k].horizon - options_.match_range_margin));
+    views.emplace_back(keyframe_poses_[k] * keyframe_views_[k].sensor_in_robot, reach * reach);
+  }
+  std::vector<Eigen::Vector2f> inside;
+  inside.reserve(returns.size());
+  for (const Eigen::Vector2f& point : returns) {
+    const Eigen::Vector2d in_map = predicted * Eigen::Vector2d(point.cast<double>());
+    for (const auto& [sensor, reach2] : views) {
+      if ((in_map - sensor).squaredNorm() < reach2) {
+        inside.push_back(point);
+        break;
+      }
+    }
+  }
+  return inside;
 }
 
 bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
@@ -80,36 +112,37 @@ bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
   if (odometry && last_odometry_) odometry_delta = last_odometry_->inverse() * *odometry;
   if (odometry) last_odometry_ = odometry;
 
-  LaserScan limited;
-  std::vector<Eigen::Vector2f> tracker_points;
-  const ParticleScan prepared = Prepare(scan, &limited, &tracker_points);
+  const Rigid2d predicted = current_pose_ * odometry_delta;
+  PreparedScan prepared = Prepare(scan, predicted);
+  const ParticleScan& filter_scan = prepared.filter;
   if (!filter_.initialized()) {
-    if (prepared.match_points.empty()) {
+    if (filter_scan.weight_points.empty()) {
       // Nothing to start a map with yet: the robot stays at the origin.
       trajectory_.push_back({scan.timestamp, current_pose_});
       anchors_.push_back({0, current_pose_});
       return true;
     }
-    filter_.Initialize(current_pose_, prepared);
-    AddKeyframe(limited, std::move(tracker_points));
+    filter_.Initialize(current_pose_, filter_scan);
+    AddKeyframe(prepared.limited, std::move(prepared.tracker_map));
   } else {
-    const Rigid2d predicted = current_pose_ * odometry_delta;
     odometry_since_update_ = odometry_since_update_ * odometry_delta;
-    std::optional<Rigid2d> tracked = tracker_.Track(tracker_points, predicted);
+    std::optional<Rigid2d> tracked =
+        tracker_.Track(prepared.tracker_match, predicted, filter_scan.normal_scatter);
     if (!tracked) {
-      const ParticleMatch match =
-          MatchAgainstTiles(prepared.match_points, filter_.best().map, predicted, options_.tracking);
+      const ParticleMatch match = MatchAgainstTiles(filter_scan.match_points, filter_.best().map,
+                                                    predicted, options_.tracking);
       if (match.good) tracked = match.pose;
     }
     current_pose_ = tracked ? *tracked : predicted;
     ++(tracked ? tracked_ : tracking_failures_);
     const Rigid2d tracked_motion = keyframe_poses_.back().inverse() * current_pose_;
     const Rigid2d motion = options_.scan_matched_motion ? tracked_motion : odometry_since_update_;
-    if (!prepared.match_points.empty() && (motion.translation().norm() >= options_.update_translation ||
-                                           std::abs(motion.rotation()) >= options_.update_rotation)) {
-      filter_.Update(motion, tracked_motion, prepared);
+    if (!filter_scan.weight_points.empty() &&
+        (motion.translation().norm() >= options_.update_translation ||
+         std::abs(motion.rotation()) >= options_.update_rotation)) {
+      filter_.Update(motion, tracked_motion, filter_scan);
       odometry_since_update_ = Rigid2d();
-      AddKeyframe(limited, std::move(tracker_points));
+      AddKeyframe(prepared.limited, std::move(prepared.tracker_map));
     }
   }
   anchors_.push_back({keyframe_poses_.size() - 1, keyframe_poses_.back().inverse() * current_pose_});
@@ -118,6 +151,9 @@ bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
 }
 
 void ParticleSlam::AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points) {
+  const float horizon = std::min(options_.max_range,
+                                 limited.range_max > 0.0f ? limited.range_max : options_.max_range);
+  keyframe_views_.push_back({limited.sensor_in_robot.translation(), horizon});
   submaps_.AddKeyframe(limited);
   tracker_.AddKeyframe(std::move(tracker_points));
   RefreshBestHistory();

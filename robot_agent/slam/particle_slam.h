@@ -22,6 +22,13 @@ struct ParticleSlamOptions {
   ParticleFilterOptions filter;
   // Returns farther than this are left out of matching; beams are traced at most this far.
   float max_range = 20.0f;
+  // The laser-horizon trap: the map's walls end where earlier scans' horizons (min(range_max,
+  // max_range)) cut them, so a new scan's returns past those ends would pull every match back
+  // towards the previous pose. Returns are matched (tracker and improved proposal) only when
+  // they lie within horizon - match_range_margin of the sensor at one of the latest keyframes
+  // (tracker.keyframes of them), at the predicted pose; all returns are mapped and weighted.
+  // The margin covers the matchers' reach (MatchGrid max_distance, the proposal's 20 cm search).
+  float match_range_margin = 0.3f;
   // Matching and weighting use one point per voxel of this size (metres).
   float match_voxel = 0.1f;
   // A filter update (keyframe) runs when the robot moved this far (metres / radians).
@@ -67,8 +74,18 @@ class ParticleSlam : public LocalSlam {
   const ParticleFilter& filter() const { return filter_; }
 
  private:
-  ParticleScan Prepare(const LaserScan& scan, LaserScan* limited,
-                       std::vector<Eigen::Vector2f>* tracker_points) const;
+  // One scan in the forms the backend uses.
+  struct PreparedScan {
+    ParticleScan filter;  // match points inside the horizon; rays of every return
+    LaserScan limited;    // returns beyond max_range dropped: what the submaps get
+    std::vector<Eigen::Vector2f> tracker_match;  // inside the horizon: matched by the tracker
+    std::vector<Eigen::Vector2f> tracker_map;    // every return: the tracker's target
+  };
+  PreparedScan Prepare(const LaserScan& scan, const Rigid2d& predicted) const;
+  // `returns` (robot frame, beam order) that, at `predicted`, lie inside a recent keyframe's
+  // horizon less match_range_margin; all of them before the first keyframe.
+  std::vector<Eigen::Vector2f> InsideRecentHorizons(const std::vector<Eigen::Vector2f>& returns,
+                                                    const Rigid2d& predicted) const;
   void AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points);
   void RefreshBestHistory();
 
@@ -86,6 +103,11 @@ class ParticleSlam : public LocalSlam {
   Trajectory trajectory_;
   std::vector<ScanAnchor> anchors_;
   std::vector<Rigid2d> keyframe_poses_;  // the best particle's
+  struct KeyframeView {
+    Eigen::Vector2d sensor_in_robot;
+    float horizon = 0.0f;  // min(range_max, max_range)
+  };
+  std::vector<KeyframeView> keyframe_views_;  // one per keyframe
   Rigid2d current_pose_;
   Rigid2d odometry_since_update_;
   std::optional<Rigid2d> last_odometry_;

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "robot_agent/slam/degeneracy.h"
+
 namespace fleetmap {
 
 ScanMatcherOptions ParticleTrackerOptions::DefaultMatcherOptions() {
@@ -32,7 +34,8 @@ void ParticleTracker::Rebuild(const std::vector<Rigid2d>& keyframe_poses) {
 }
 
 std::optional<Rigid2d> ParticleTracker::Track(const std::vector<Eigen::Vector2f>& points,
-                                              const Rigid2d& predicted) const {
+                                              const Rigid2d& predicted,
+                                              const Eigen::Matrix2d& normal_scatter) const {
   if (points.empty() || target_.empty()) return std::nullopt;
   ScanMatcherOptions options = options_.matcher;
   options.use_correlative_search = false;
@@ -43,7 +46,9 @@ std::optional<Rigid2d> ParticleTracker::Track(const std::vector<Eigen::Vector2f>
     if (searched && (!match || searched->score > match->score)) match = searched;
   }
   if (!match) return std::nullopt;
-  return match->pose;
+  if (options_.min_observed_normals <= 0.0) return match->pose;
+  return KeepObservedDirections(predicted, match->pose, normal_scatter,
+                                options_.min_observed_normals);
 }
 
 }  // namespace fleetmap

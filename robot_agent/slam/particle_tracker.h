@@ -21,6 +21,9 @@ struct ParticleTrackerOptions {
   ScanMatcherOptions matcher = DefaultMatcherOptions();
   // Below this refined score a correlative search runs first (bad odometry).
   double search_below_score = 0.75;
+  // Along a direction that hardly any of the scan's surface normals face (a plain corridor's
+  // axis; NormalScatter eigenvalue below this) the match keeps the prediction's translation.
+  double min_observed_normals = 0.03;
 
   static ScanMatcherOptions DefaultMatcherOptions();
 };
@@ -37,8 +40,10 @@ class ParticleTracker {
   // Rebuilds the target from the latest keyframes at `keyframe_poses` (all keyframes so far,
   // the best particle's).
   void Rebuild(const std::vector<Rigid2d>& keyframe_poses);
-  // The scan's pose, or empty when the target is empty or the match too poor.
-  std::optional<Rigid2d> Track(const std::vector<Eigen::Vector2f>& points, const Rigid2d& predicted) const;
+  // The scan's pose, or empty when the target is empty or the match too poor. `normal_scatter`
+  // is the scan's NormalScatter (robot frame).
+  std::optional<Rigid2d> Track(const std::vector<Eigen::Vector2f>& points, const Rigid2d& predicted,
+                               const Eigen::Matrix2d& normal_scatter) const;
 
  private:
   const ParticleTrackerOptions options_;

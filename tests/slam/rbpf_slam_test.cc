@@ -148,6 +148,38 @@ TEST(RbpfSlamTest, SameSeedAndThreadsGiveIdenticalResults) {
   }
 }
 
+// A plain corridor longer than the laser's 8 m range, then its end wall coming into range,
+// driven with exact odometry: both particle filters must keep the distance travelled. Returns
+// near the horizon land past the map's wall ends and used to pull every match (tracker and
+// proposal) back towards the previous pose.
+TEST(RbpfSlamTest, KeepsItsDistanceWhenACorridorsEndComesIntoRange) {
+  const testing::SegmentWorld corridor = {
+      {Eigen::Vector2d(-1.0, -1.0), Eigen::Vector2d(25.0, -1.0)},
+      {Eigen::Vector2d(-1.0, 1.0), Eigen::Vector2d(25.0, 1.0)},
+      {Eigen::Vector2d(25.0, -1.0), Eigen::Vector2d(25.0, 1.0)}};
+  for (ParticleSlamOptions options :
+       {ParticleSlamOptions::Rbpf(), ParticleSlamOptions::FastSlam()}) {
+    ParticleSlam slam(options);
+    std::string error;
+    Rigid2d truth;
+    for (int i = 0; i <= 440; ++i) {
+      const double t = 0.1 * i;
+      truth = Rigid2d(0.05 * i, 0.0, 0.0);
+      ASSERT_TRUE(slam.AddOdometry({t, truth}, &error)) << error;
+      LaserScan scan = testing::SimulateScan(corridor, truth, 181, static_cast<float>(-M_PI / 2),
+                                             static_cast<float>(M_PI / 180), 8.0f);
+      scan.timestamp = t;
+      ASSERT_TRUE(slam.AddScan(scan, &error)) << error;
+    }
+    // The distance travelled is the point (before the fix the RBPF ended at x = 4 m). Across
+    // the corridor and in heading both filters random-walk (sampled proposals; the RBPF's
+    // spreads ~0.3 degrees per update), hence the loose pose tolerance.
+    EXPECT_NEAR(slam.CurrentPose().x(), truth.x(), 0.05)
+        << options.name << ": " << slam.Statistics();
+    EXPECT_THAT(slam.CurrentPose(), IsNearPose(truth, 0.4, 3.0 * kDegree)) << options.name;
+  }
+}
+
 TEST(RbpfSlamTest, FactoryKnowsBothParticleFilters) {
   std::string error;
   for (const char* name : {"rbpf", "fastslam"}) {
