@@ -21,8 +21,10 @@ namespace fleetmap {
 
 struct MergeEngineOptions {
   MatchTargetOptions match;
-  // Detection + heading search: the window is small, so the score gate can be milder.
-  MatchGates detection_gates{0.5, 0.85, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.4, 0.5, 60};
+  // Detection + heading search: the window is small, so the score gate can be milder. The
+  // seen robot's map usually reaches past the observer's (a camera sees farther than the
+  // laser maps, and the robots come from different places): judged on the overlap.
+  MatchGates detection_gates{0.6, 0.85, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.4, 0.6, 60, true};
   // Global search without any detection: strict, since nothing else constrains the answer.
   MatchGates cross_gates{0.6, 0.8, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.5, 0.6, 100};
   // Checking a predicted pose (second evidence, constraints between joined robots).

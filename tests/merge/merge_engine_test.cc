@@ -92,6 +92,30 @@ TEST(MergeEngineTest, DetectionsAlignAnyRelativeHeading) {
   }
 }
 
+// The observer only mapped the left room; the seen robot comes from the middle and right rooms
+// (most of its map lies beyond the observer's). Two detections without heading still align it.
+TEST(MergeEngineTest, DetectionsAlignWhenTheSeenMapReachesPastTheObserver) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  MergeEngine engine(TestOptions());
+  SimRobot a{"a", testing::PathThrough({{1.5, 10.5}, {3, 10.5}, {3, 9}, {1.5, 9}, {1.5, 10.5}}, 0.25),
+             Rigid2d(1.5, 10.5, 0.3)};
+  const SimRobot b{"b", testing::PathThrough({{18, 10}, {14, 7}, {11, 5}, {10, 6}, {6, 6}, {3, 8}}, 0.25), Rigid2d(18, 10, -2.0)};
+  while (a.path.size() < b.path.size()) a.path.push_back(a.path.back());  // a waits
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  const size_t last = b.path.size() - 1;
+  ASSERT_TRUE(engine.AddDetection(Detect(a, b, last - 4, false)));
+  ASSERT_TRUE(engine.AddDetection(Detect(a, b, last, false)));
+  const MergeUpdate update = engine.Update();
+  for (const AlignmentEvent& e : update.events) {
+    EXPECT_LT(e.overlap, 0.7) << AlignmentEventTypeName(e.type) << " " << e.reason;
+  }
+  ASSERT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 1);
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
+}
+
 // Robots in a long featureless corridor: submap matching alone must not merge them.
 TEST(MergeEngineTest, CorridorDoesNotMergeWithoutDetection) {
   const testing::SegmentWorld world = testing::CorridorWorld();
