@@ -43,6 +43,11 @@ struct MergeEngineOptions {
   // Two alignments agree when they place the other map within these.
   double agreement_translation = 0.3;
   double agreement_rotation = 0.05;
+  // Two detections of the same robot confirm each other only when it moved at least this far
+  // (in its own map) between them: its map turned about the detected position (end for end in a
+  // corridor) fits as well, and only its motion seen from outside tells the turns apart (a turn
+  // by a moves the second detected position by 2 sin(a / 2) times the distance).
+  double min_detection_baseline = 0.5;
   // A detection between joined robots is consistent when within this Mahalanobis distance,
   // with this floor added to the detection's standard deviation (our poses are not exact).
   double detection_gate = 4.0;

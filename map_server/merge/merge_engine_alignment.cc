@@ -133,6 +133,10 @@ bool MergeEngine::Agree(const Hypothesis& a, const Hypothesis& b) const {
   // Two different detections are independent evidence even when they share submaps; two
   // submap matches are independent only when they used different submaps.
   if (a.detection && b.detection && *a.detection == *b.detection) return false;
+  if (a.detection && b.detection && a.robot_b == b.robot_b &&
+      (a.observed_in_local - b.observed_in_local).norm() < options_.min_detection_baseline) {
+    return false;
+  }
   if ((!a.detection || !b.detection) && a.robot_b == b.robot_b) {
     for (int64_t id : a.submaps_b) {
       if (b.submaps_b.count(id)) return false;
@@ -282,6 +286,8 @@ void MergeEngine::ProcessDetection(size_t index, MergeUpdate* update, bool* keep
   h.local_b_in_local_a =
       LocalToFrame(h.robot_a)->inverse() * b_frame_in_a_frame * *LocalToFrame(h.robot_b);
   h.detection = index;
+  h.observed_in_local =
+      (robots_.at(d.observed_id)->submaps.at(b->host_submap).submap_in_local * b->robot_in_node).translation();
   h.submaps_b.insert(event.submaps_b.begin(), event.submaps_b.end());
   const NodeId from = *NearestNode(Root(d.observer_id), "", r.pose.translation());
   h.edge = MatchEdge(from, node_b, EdgeKind::kDetectionMatch);

@@ -134,6 +134,28 @@ TEST(MergeEngineTest, CorridorDoesNotMergeWithoutDetection) {
   EXPECT_TRUE(engine.RobotToGlobal("a"));
 }
 
+// In a corridor, the seen robot's map turned end for end about the detected position fits the
+// observer's map as well, and better where more of it lands on the observer's map. Detections of
+// a robot standing still say nothing about its heading, and neither does matching more of its
+// own map: they must not confirm each other into an alignment.
+TEST(MergeEngineTest, DetectionsOfAStandingRobotInACorridorDoNotMerge) {
+  const testing::SegmentWorld world = testing::CorridorWorld();
+  MergeEngine engine(TestOptions());
+  SimRobot a{"a", testing::PathThrough({{2, 1}, {10, 1}}, 0.25), Rigid2d(2, 1, 0.0)};
+  SimRobot b{"b", testing::PathThrough({{28, 1}, {16, 1}}, 0.25), Rigid2d(28, 1, 0.7)};
+  const size_t stop = b.path.size();
+  while (b.path.size() < stop + 15) b.path.push_back(b.path.back());  // b stands still
+  while (a.path.size() < b.path.size()) a.path.push_back(a.path.back());
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  for (size_t step : {stop + 1, stop + 7, stop + 14}) ASSERT_TRUE(engine.AddDetection(Detect(a, b, step, false)));
+  const MergeUpdate update = engine.Update();
+  for (const AlignmentEvent& e : update.events) {
+    EXPECT_NE(e.type, AlignmentEventType::kAlignmentAccepted) << e.reason;
+  }
+  EXPECT_FALSE(engine.RobotToGlobal("b"));
+}
+
 // 20 detections, two of them corrupted (10 %): the corrupted ones are rejected, never used.
 TEST(MergeEngineTest, CorruptedDetectionsAreRejected) {
   const testing::SegmentWorld world = testing::OfficeWorld();
