@@ -48,6 +48,12 @@ struct MergeEngineOptions {
   // corridor) fits as well, and only its motion seen from outside tells the turns apart (a turn
   // by a moves the second detected position by 2 sin(a / 2) times the distance).
   double min_detection_baseline = 0.5;
+  // Without a measured relative heading, detections of the same robot within this many seconds
+  // whose positions lie at least the baseline apart along its path give its heading (sigma:
+  // position sigmas plus the floor, over the baseline); the search then covers +-3 sigma of the
+  // consensus instead of the full circle. 0 turns this off.
+  double motion_heading_window = 20.0;
+  double motion_heading_min_baseline = 1.0;
   // A detection between joined robots is consistent when within this Mahalanobis distance,
   // with this floor added to the detection's standard deviation (our poses are not exact).
   double detection_gate = 4.0;
@@ -135,6 +141,14 @@ class MergeEngine {
     int64_t host_submap;
     Rigid2d robot_in_node;
   };
+  struct SeenPositions {
+    Eigen::Vector2d in_observer_frame;  // the detected position, in the observer's component
+    Eigen::Vector2d in_observed_frame;  // the seen robot's own position, in its component
+  };
+  struct HeadingPrior {
+    double heading;  // the seen robot's component frame in the observer's, radians
+    double sigma;
+  };
 
   // merge_engine.cc
   RobotState& Robot(const std::string& id);
@@ -152,6 +166,9 @@ class MergeEngine {
   void ProcessDetection(size_t index, MergeUpdate* update, bool* keep_pending);
   void ProcessCrossMatches(MergeUpdate* update);
   void ProcessLocalConstraints(MergeUpdate* update);
+  // merge_engine_motion.cc
+  std::optional<SeenPositions> PositionsAt(const RobotDetection& detection) const;
+  std::optional<HeadingPrior> HeadingFromMotion(size_t detection_index) const;
   // merge_engine_loops.cc
   void ProcessLoopClosures(MergeUpdate* update);
   void Consider(Hypothesis hypothesis, MergeUpdate* update);

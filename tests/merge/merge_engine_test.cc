@@ -156,6 +156,31 @@ TEST(MergeEngineTest, DetectionsOfAStandingRobotInACorridorDoNotMerge) {
   EXPECT_FALSE(engine.RobotToGlobal("b"));
 }
 
+// The same corridor with the seen robot driving: its map turned end for end still fits better
+// (more of it lands on the observer's map), but where it moved, seen from the observer, against
+// where it moved in its own map gives the heading; searched around that, the detections align it.
+TEST(MergeEngineTest, DetectionsOfADrivingRobotInACorridorAlignItByItsMotion) {
+  const testing::SegmentWorld world = testing::CorridorWorld();
+  MergeEngine engine(TestOptions());
+  SimRobot a{"a", testing::PathThrough({{2, 1}, {12, 1}}, 0.25), Rigid2d(2, 1, 0.0)};
+  const SimRobot b{"b", testing::PathThrough({{28, 1}, {16, 1}}, 0.25), Rigid2d(28, 1, 0.7)};
+  while (a.path.size() < b.path.size()) a.path.push_back(a.path.back());
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  const size_t last = b.path.size() - 1;
+  for (size_t step : {last - 12, last - 8, last - 4, last}) {
+    ASSERT_TRUE(engine.AddDetection(Detect(a, b, step, false)));
+  }
+  const MergeUpdate update = engine.Update();
+  EXPECT_GE(Count(update, AlignmentEventType::kAlignmentAccepted), 1);
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  // The heading is right (turned end for end, b would be metres off). Along a featureless
+  // corridor only the detections fix the position, but the match edge claims 2 cm there too
+  // (isotropic match sigmas), so the lattice's pick within the detection window stays.
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.25, 0.5 * M_PI / 180));
+}
+
 // 20 detections, two of them corrupted (10 %): the corrupted ones are rejected, never used.
 TEST(MergeEngineTest, CorruptedDetectionsAreRejected) {
   const testing::SegmentWorld world = testing::OfficeWorld();
