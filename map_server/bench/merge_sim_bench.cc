@@ -24,6 +24,7 @@ struct BenchOptions {
   double feed_period = 5.0;        // seconds of sim time between engine updates
   double detection_period = 1.0;   // one detection per ordered pair per this many seconds
   double detection_sigma = 0.05;   // metres, noise of the synthetic detections
+  double outlier_fraction = 0.0;   // detections moved by 1-5 m in a random direction
   double false_translation = 0.5;  // a placed pair further off than this is a false merge
   double false_rotation = 0.087;
   bool verbose = false;
@@ -34,6 +35,15 @@ struct RunResult {
   int pairs = 0;
   int placed_pairs = 0;
   int false_merges = 0;
+  // Submaps of different robots whose true anchors are within kNearSubmaps: their relative pose
+  // in the merged graph against the truth (local consistency of the merge, without the drift
+  // accumulated since the robots' starts).
+  int near_pairs = 0;
+  int near_pairs_off = 0;  // beyond the false-merge thresholds
+  double near_median_translation = 0.0;
+  double near_max_translation = 0.0;
+  double near_median_rotation = 0.0;
+  double near_max_rotation = 0.0;
   double max_translation = 0.0;
   double max_rotation = 0.0;
   double map_accuracy = 0.0;
@@ -43,6 +53,8 @@ struct RunResult {
   int submaps = 0;
   double sim_seconds = 0.0;
 };
+
+constexpr double kNearSubmaps = 8.0;  // metres between true submap anchors
 
 double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -87,9 +99,18 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
     if (!slams.back()) return false;
   }
   std::vector<std::optional<Rigid2d>> local_in_world(n);  // truth: the pose at the first scan
+  std::map<std::string, size_t> index;
+  for (size_t i = 0; i < n; ++i) index[infos[i].name] = i;
+  std::vector<std::optional<Rigid2d>> first_submap_in_local(n);  // of submap 0, as local SLAM left it
+  std::vector<std::map<double, Rigid2d>> truth_at_scan(n);  // robot in world, by scan time
+  // Per submap (latest revision): the anchor relative to the submap's first scan pose, and
+  // that scan's time; with the truth at that time this gives the anchor's true pose.
+  std::map<NodeId, std::pair<Rigid2d, double>> anchors;
   std::map<std::pair<int, int>, double> last_detection;
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, options.detection_sigma);
+  std::mt19937 outlier_rng(11);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
   MergeEngine engine;
   std::vector<double> update_ms, fold_ms;
   double next_feed = options.feed_period;
@@ -100,6 +121,12 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
       if (last) slams[i]->Finish();
       for (const Submap& submap : slams[i]->TakeSubmapUpdates()) {
         new_submaps += submap.finished;
+        if (submap.submap_id == 0) first_submap_in_local[i] = submap.submap_in_local;
+        if (!submap.scan_poses.empty()) {
+          anchors[NodeId{infos[i].name, submap.submap_id}] = {
+              submap.scan_poses.front().pose.inverse() * submap.submap_in_local,
+              submap.scan_poses.front().timestamp};
+        }
         engine.AddOrUpdateSubmap(submap);
       }
       engine.SetTrajectory(infos[i].name, slams[i]->trajectory());
@@ -111,9 +138,21 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
     const MergeUpdate update = engine.Update();
     if (options.verbose) {
       for (const AlignmentEvent& e : update.events) {
-        std::printf("    t=%.0f %s %s/%s score %.3f amb %.3f overlap %.3f: %s\n", result->sim_seconds,
+        // How far the evidence's estimate is from the truth (start frames; includes drift).
+        std::string truth_error;
+        const auto a = index.find(e.robot_a), b = index.find(e.robot_b);
+        if (e.local_b_in_local_a && a != index.end() && b != index.end() && local_in_world[a->second] &&
+            local_in_world[b->second]) {
+          const Rigid2d diff = (local_in_world[a->second]->inverse() * *local_in_world[b->second]).inverse() *
+                               *e.local_b_in_local_a;
+          char text[80];
+          std::snprintf(text, sizeof(text), " [vs truth %.2f m, %.2f deg]", diff.translation().norm(),
+                        std::abs(NormalizeAngle(diff.rotation())) * 180.0 / M_PI);
+          truth_error = text;
+        }
+        std::printf("    t=%.0f %s %s/%s score %.3f amb %.3f overlap %.3f%s: %s\n", result->sim_seconds,
                     AlignmentEventTypeName(e.type), e.robot_a.c_str(), e.robot_b.c_str(), e.score,
-                    e.ambiguity, e.overlap, e.reason.c_str());
+                    e.ambiguity, e.overlap, truth_error.c_str(), e.reason.c_str());
       }
     }
     const double ms =
@@ -134,6 +173,7 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
       if (packet.laser) {
         const size_t i = static_cast<size_t>(packet.robot_index);
         if (!local_in_world[i]) local_in_world[i] = packet.ground_truth;
+        truth_at_scan[i][packet.laser->scan.timestamp] = packet.ground_truth;
         slam.AddScan(packet.laser->scan, &why);
       }
     }
@@ -149,6 +189,10 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
         d.timestamp = step.timestamp;
         d.position_in_observer =
             v.relative.translation() + Eigen::Vector2d(noise(rng), noise(rng));
+        if (uniform(outlier_rng) < options.outlier_fraction) {
+          const double angle = 2.0 * M_PI * uniform(outlier_rng), distance = 1.0 + 4.0 * uniform(outlier_rng);
+          d.position_in_observer += distance * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+        }
         d.covariance = Eigen::Matrix2d::Identity() * options.detection_sigma *
                        options.detection_sigma;
         pending_detections.push_back(d);
@@ -175,14 +219,25 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
                   t.front().pose.rotation());
     result->lines.push_back(line);
   }
-  // Relative transforms between every pair of robots against the truth.
+  // Relative transforms between every pair of robots' start frames against the truth. A start
+  // frame is placed where the merged graph put the robot's first submap: RobotToGlobal() frames
+  // the robot by its latest submap, so it also carries the local SLAM drift since the start
+  // (printed for reference).
+  const std::map<NodeId, Rigid2d> poses = engine.SubmapPoses();
+  const auto start_in_global = [&](size_t i) -> std::optional<Rigid2d> {
+    const auto it = poses.find(NodeId{infos[i].name, 0});
+    if (it == poses.end() || !first_submap_in_local[i]) return std::nullopt;
+    return it->second * first_submap_in_local[i]->inverse();
+  };
   for (size_t a = 0; a < n; ++a) {
     for (size_t b = a + 1; b < n; ++b) {
       ++result->pairs;
-      const auto ga = engine.RobotToGlobal(infos[a].name);
-      const auto gb = engine.RobotToGlobal(infos[b].name);
+      const auto ga = start_in_global(a);
+      const auto gb = start_in_global(b);
+      const auto la = engine.RobotToGlobal(infos[a].name);
+      const auto lb = engine.RobotToGlobal(infos[b].name);
       char line[256];
-      if (!ga || !gb || !local_in_world[a] || !local_in_world[b]) {
+      if (!ga || !gb || !la || !lb || !local_in_world[a] || !local_in_world[b]) {
         std::snprintf(line, sizeof(line), "  %s-%s: not merged", infos[a].name.c_str(),
                       infos[b].name.c_str());
         result->lines.push_back(line);
@@ -197,10 +252,41 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
       if (t > options.false_translation || r > options.false_rotation) ++result->false_merges;
       result->max_translation = std::max(result->max_translation, t);
       result->max_rotation = std::max(result->max_rotation, r);
-      std::snprintf(line, sizeof(line), "  %s-%s: %.3f m, %.3f deg", infos[a].name.c_str(),
-                    infos[b].name.c_str(), t, r * 180.0 / M_PI);
+      const Rigid2d latest = truth.inverse() * (la->inverse() * *lb);
+      std::snprintf(line, sizeof(line), "  %s-%s: %.3f m, %.3f deg (latest submaps' frames: %.3f m, %.3f deg)",
+                    infos[a].name.c_str(), infos[b].name.c_str(), t, r * 180.0 / M_PI,
+                    latest.translation().norm(), std::abs(NormalizeAngle(latest.rotation())) * 180.0 / M_PI);
       result->lines.push_back(line);
     }
+  }
+  // Local consistency: nearby submaps of different robots.
+  std::vector<std::pair<NodeId, Rigid2d>> true_anchors;  // placed submaps' true anchors in the world
+  for (const auto& [id, pose] : poses) {
+    const auto anchor = anchors.find(id);
+    if (anchor == anchors.end()) continue;
+    const auto& truth = truth_at_scan[index.at(id.robot)];
+    const auto t = truth.find(anchor->second.second);
+    if (t == truth.end()) continue;
+    true_anchors.emplace_back(id, t->second * anchor->second.first);
+  }
+  std::vector<double> near_t, near_r;
+  for (size_t i = 0; i < true_anchors.size(); ++i) {
+    for (size_t j = i + 1; j < true_anchors.size(); ++j) {
+      const auto& [id_i, true_i] = true_anchors[i];
+      const auto& [id_j, true_j] = true_anchors[j];
+      if (id_i.robot == id_j.robot || (true_i.translation() - true_j.translation()).norm() > kNearSubmaps) continue;
+      const Rigid2d diff = (true_i.inverse() * true_j).inverse() * (poses.at(id_i).inverse() * poses.at(id_j));
+      near_t.push_back(diff.translation().norm());
+      near_r.push_back(std::abs(NormalizeAngle(diff.rotation())));
+      result->near_pairs_off += near_t.back() > options.false_translation || near_r.back() > options.false_rotation;
+    }
+  }
+  result->near_pairs = static_cast<int>(near_t.size());
+  if (!near_t.empty()) {
+    result->near_median_translation = Median(near_t);
+    result->near_max_translation = *std::max_element(near_t.begin(), near_t.end());
+    result->near_median_rotation = Median(near_r);
+    result->near_max_rotation = *std::max_element(near_r.begin(), near_r.end());
   }
   const std::string& reference = engine.reference_robot();
   for (size_t i = 0; i < n; ++i) {
@@ -230,6 +316,9 @@ int main(int argc, char** argv) {
   app.add_flag("--verbose", options.verbose, "print every merge event");
   app.add_option("--feed-period", options.feed_period, "sim seconds between engine updates")
       ->capture_default_str();
+  app.add_option("--outliers", options.outlier_fraction,
+                 "fraction of detections corrupted (moved by 1-5 m in a random direction)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (without_only) both = false;
   int false_merges = 0;
@@ -252,6 +341,12 @@ int main(int argc, char** argv) {
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       for (const auto& line : result.lines) std::cout << line << "\n";
+      std::printf(
+          "  nearby submaps of different robots (true anchors within %.0f m): %d pairs, median %.3f m / "
+          "%.3f deg, max %.3f m / %.3f deg, %d beyond the false-merge thresholds\n",
+          fleetmap::kNearSubmaps, result.near_pairs, result.near_median_translation,
+          result.near_median_rotation * 180.0 / M_PI, result.near_max_translation,
+          result.near_max_rotation * 180.0 / M_PI, result.near_pairs_off);
       std::printf(
           "  merged pairs %d/%d, false merges %d, max error %.3f m / %.3f deg, map within 1 "
           "cell of a wall %.2f %%, submaps %d, Update() median %.1f ms (max %.1f), per new "

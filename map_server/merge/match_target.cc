@@ -1,5 +1,6 @@
 #include "map_server/merge/match_target.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "map_server/merge/grid_points.h"
@@ -31,8 +32,42 @@ std::string Describe(const MatchResult& r) {
   std::ostringstream os;
   os.precision(3);
   os << "score " << r.score << ", ambiguity " << r.ambiguity << ", overlap " << r.overlap
-     << ", inliers " << r.inlier_fraction << ", residual " << r.residual << " m";
+     << ", inliers " << r.inlier_fraction << ", residual " << r.residual << " m, on the overlap: score "
+     << r.overlap_score << ", inliers " << r.overlap_inlier_fraction;
   return os.str();
+}
+
+bool KnownAt(const ScoreGrid& grid, const Eigen::Vector2d& point) {
+  const Eigen::Vector2d c = grid.ToCellCoordinates(point);
+  return grid.Known(static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y())));
+}
+
+// Mean score of the points landing on observed cells.
+double OverlapScore(const ScoreGrid& grid, const std::vector<Eigen::Vector2d>& points, const Rigid2d& pose) {
+  double sum = 0.0;
+  int known = 0;
+  for (const Eigen::Vector2d& p : points) {
+    const Eigen::Vector2d c = grid.ToCellCoordinates(pose * p);
+    const int x = static_cast<int>(std::floor(c.x())), y = static_cast<int>(std::floor(c.y()));
+    if (!grid.Known(x, y)) continue;
+    ++known;
+    sum += grid.Value(x, y);
+  }
+  return known > 0 ? sum / known : 0.0;
+}
+
+// Fraction of the points landing on observed cells that lie within `inlier_distance` of a wall.
+double OverlapInlierFraction(const ScoreGrid& grid, const LikelihoodField& field,
+                             const std::vector<Eigen::Vector2d>& points, const Rigid2d& pose,
+                             double inlier_distance) {
+  int known = 0, inliers = 0;
+  for (const Eigen::Vector2d& p : points) {
+    const Eigen::Vector2d q = pose * p;
+    if (!KnownAt(grid, q)) continue;
+    ++known;
+    inliers += field.Distance(q) < inlier_distance;
+  }
+  return known > 0 ? static_cast<double>(inliers) / known : 0.0;
 }
 
 }  // namespace
@@ -47,19 +82,25 @@ MatchResult MatchTarget::EvaluateWithScore(const MatchSource& source, const Rigi
   MatchResult result;
   result.pose = pose;
   result.score = score;
-  result.found = result.score >= gates.min_score;
   result.overlap = matcher_->OverlapAt(source.coarse, pose);
   const RefinedPose fine =
       EvaluatePose(*fine_field_, source.fine, pose, options_.refine.inlier_distance);
   result.inlier_fraction = fine.inlier_fraction;
   result.residual = fine.mean_inlier_distance;
+  result.overlap_score = OverlapScore(grid_, source.coarse, pose);
+  result.overlap_inlier_fraction = OverlapInlierFraction(grid_, *fine_field_, source.fine, pose,
+                                                         options_.refine.inlier_distance);
+  const double judged_score = gates.judge_overlap_only ? result.overlap_score : result.score;
+  const double judged_inliers =
+      gates.judge_overlap_only ? result.overlap_inlier_fraction : result.inlier_fraction;
+  result.found = judged_score >= gates.min_score;
   if (static_cast<int>(source.coarse.size()) < gates.min_points) {
     result.reason = "too few wall points in the source";
   } else if (!result.found) {
     result.reason = "score below gate";
   } else if (result.overlap < gates.min_overlap) {
     result.reason = "overlap below gate";
-  } else if (result.inlier_fraction < gates.min_inlier_fraction) {
+  } else if (judged_inliers < gates.min_inlier_fraction) {
     result.reason = "inlier fraction below gate";
   } else {
     result.accepted = true;
@@ -79,9 +120,12 @@ MatchResult MatchTarget::Match(const MatchSource& source, const SearchWindow& wi
     result.reason = "empty target map";
     return result;
   }
-  const auto best = matcher_->Search(source.coarse, window, gates.min_score);
+  // Unknown target cells score >= 0, so a pose whose overlap passes both gates scores at
+  // least min_score * min_overlap over all points.
+  const double floor = gates.judge_overlap_only ? gates.min_score * gates.min_overlap : gates.min_score;
+  const auto best = matcher_->Search(source.coarse, window, floor);
   if (!best) {
-    result.reason = "no pose scores above " + std::to_string(gates.min_score);
+    result.reason = "no pose scores above " + std::to_string(floor);
     return result;
   }
   ExclusionZone zone = gates.distinct;

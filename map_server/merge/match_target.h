@@ -33,6 +33,12 @@ struct MatchGates {
   double min_overlap = 0.5;         // source wall points landing on observed target cells
   double min_inlier_fraction = 0.5;  // after refinement, within refine.inlier_distance
   int min_points = 60;              // source wall points after filtering
+  // Judge score and inliers only over the source points landing on observed target cells
+  // (min_overlap still says how many must). For searches around a known position (a detection,
+  // a predicted pose), where the source map reaching past the target's is expected: averaged
+  // over all points, the score could never exceed the overlap, so the score gate would
+  // silently demand an overlap well above min_overlap.
+  bool judge_overlap_only = false;
 };
 
 // A source map prepared for matching: wall points in the source frame, thinned.
@@ -54,6 +60,9 @@ struct MatchResult {
   double overlap = 0.0;
   double inlier_fraction = 0.0;
   double residual = 0.0;  // mean distance of inlier points to target walls (metres)
+  // The same two figures over the source points landing on observed target cells only.
+  double overlap_score = 0.0;
+  double overlap_inlier_fraction = 0.0;
 };
 
 // A target map (in its own frame) ready for global and local searches: the coarse scoring

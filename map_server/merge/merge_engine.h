@@ -21,8 +21,10 @@ namespace fleetmap {
 
 struct MergeEngineOptions {
   MatchTargetOptions match;
-  // Detection + heading search: the window is small, so the score gate can be milder.
-  MatchGates detection_gates{0.5, 0.85, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.4, 0.5, 60};
+  // Detection + heading search: the window is small, so the score gate can be milder. The
+  // seen robot's map usually reaches past the observer's (a camera sees farther than the
+  // laser maps, and the robots come from different places): judged on the overlap.
+  MatchGates detection_gates{0.6, 0.85, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.4, 0.6, 60, true};
   // Global search without any detection: strict, since nothing else constrains the answer.
   MatchGates cross_gates{0.6, 0.8, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.5, 0.6, 100};
   // Checking a predicted pose (second evidence, constraints between joined robots).
@@ -41,6 +43,17 @@ struct MergeEngineOptions {
   // Two alignments agree when they place the other map within these.
   double agreement_translation = 0.3;
   double agreement_rotation = 0.05;
+  // Two detections of the same robot confirm each other only when it moved at least this far
+  // (in its own map) between them: its map turned about the detected position (end for end in a
+  // corridor) fits as well, and only its motion seen from outside tells the turns apart (a turn
+  // by a moves the second detected position by 2 sin(a / 2) times the distance).
+  double min_detection_baseline = 0.5;
+  // Without a measured relative heading, detections of the same robot within this many seconds
+  // whose positions lie at least the baseline apart along its path give its heading (sigma:
+  // position sigmas plus the floor, over the baseline); the search then covers +-3 sigma of the
+  // consensus instead of the full circle. 0 turns this off.
+  double motion_heading_window = 20.0;
+  double motion_heading_min_baseline = 1.0;
   // A detection between joined robots is consistent when within this Mahalanobis distance,
   // with this floor added to the detection's standard deviation (our poses are not exact).
   double detection_gate = 4.0;
@@ -128,6 +141,14 @@ class MergeEngine {
     int64_t host_submap;
     Rigid2d robot_in_node;
   };
+  struct SeenPositions {
+    Eigen::Vector2d in_observer_frame;  // the detected position, in the observer's component
+    Eigen::Vector2d in_observed_frame;  // the seen robot's own position, in its component
+  };
+  struct HeadingPrior {
+    double heading;  // the seen robot's component frame in the observer's, radians
+    double sigma;
+  };
 
   // merge_engine.cc
   RobotState& Robot(const std::string& id);
@@ -145,6 +166,9 @@ class MergeEngine {
   void ProcessDetection(size_t index, MergeUpdate* update, bool* keep_pending);
   void ProcessCrossMatches(MergeUpdate* update);
   void ProcessLocalConstraints(MergeUpdate* update);
+  // merge_engine_motion.cc
+  std::optional<SeenPositions> PositionsAt(const RobotDetection& detection) const;
+  std::optional<HeadingPrior> HeadingFromMotion(size_t detection_index) const;
   // merge_engine_loops.cc
   void ProcessLoopClosures(MergeUpdate* update);
   void Consider(Hypothesis hypothesis, MergeUpdate* update);

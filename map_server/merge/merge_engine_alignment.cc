@@ -133,6 +133,10 @@ bool MergeEngine::Agree(const Hypothesis& a, const Hypothesis& b) const {
   // Two different detections are independent evidence even when they share submaps; two
   // submap matches are independent only when they used different submaps.
   if (a.detection && b.detection && *a.detection == *b.detection) return false;
+  if (a.detection && b.detection && a.robot_b == b.robot_b &&
+      (a.observed_in_local - b.observed_in_local).norm() < options_.min_detection_baseline) {
+    return false;
+  }
   if ((!a.detection || !b.detection) && a.robot_b == b.robot_b) {
     for (int64_t id : a.submaps_b) {
       if (b.submaps_b.count(id)) return false;
@@ -258,18 +262,31 @@ void MergeEngine::ProcessDetection(size_t index, MergeUpdate* update, bool* keep
   const double half = std::clamp(options_.detection_window_sigmas * sigma, options_.detection_window_min,
                                  options_.detection_window_max);
   window.linear_half_extent = Eigen::Vector2d::Constant(half);
-  window.center = Rigid2d(a_robot * d.position_in_observer,
-                          d.relative_heading ? a_robot.rotation() + *d.relative_heading : 0.0);
-  window.angular_half_extent =
-      d.relative_heading ? std::max(options_.detection_window_sigmas * std::sqrt(d.relative_heading_variance),
-                                    options_.heading_window_min)
-                         : M_PI;
+  // The heading: measured, else from the seen robot's motion, else the full circle.
+  const std::optional<HeadingPrior> prior = d.relative_heading ? std::nullopt : HeadingFromMotion(index);
+  double heading = 0.0, heading_half = M_PI;
+  if (d.relative_heading) {
+    heading = a_robot.rotation() + *d.relative_heading;
+    heading_half = options_.detection_window_sigmas * std::sqrt(d.relative_heading_variance);
+  } else if (prior) {
+    heading = prior->heading + b_robot.rotation();
+    heading_half = options_.detection_window_sigmas * prior->sigma;
+  }
+  window.center = Rigid2d(a_robot * d.position_in_observer, heading);
+  window.angular_half_extent = heading_half < M_PI ? std::max(heading_half, options_.heading_window_min) : M_PI;
   double radius = 0.0;
   for (const Eigen::Vector2d& p : source.coarse) radius = std::max(radius, p.norm());
   const Box2d box = Grow(Box2d{window.center.translation(), window.center.translation()}, radius + half + 1.0);
   const auto target = CroppedTarget(Root(d.observer_id), "", box);
   const MatchResult r = target->Match(source, window, options_.detection_gates);
   FillEvent(r, &event);
+  if (prior) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "; heading within +-" << window.angular_half_extent * 180.0 / M_PI
+       << " deg of the seen robot's motion";
+    event.reason += os.str();
+  }
   if (!r.accepted) {
     event.type = AlignmentEventType::kRejected;
     update->events.push_back(event);
@@ -282,6 +299,8 @@ void MergeEngine::ProcessDetection(size_t index, MergeUpdate* update, bool* keep
   h.local_b_in_local_a =
       LocalToFrame(h.robot_a)->inverse() * b_frame_in_a_frame * *LocalToFrame(h.robot_b);
   h.detection = index;
+  h.observed_in_local =
+      (robots_.at(d.observed_id)->submaps.at(b->host_submap).submap_in_local * b->robot_in_node).translation();
   h.submaps_b.insert(event.submaps_b.begin(), event.submaps_b.end());
   const NodeId from = *NearestNode(Root(d.observer_id), "", r.pose.translation());
   h.edge = MatchEdge(from, node_b, EdgeKind::kDetectionMatch);

@@ -59,6 +59,44 @@ TEST_F(MatchTargetTest, WrongWindowIsNotAccepted) {
   EXPECT_FALSE(target.Match(source, window, MatchGates()).accepted);
 }
 
+// The source robot mapped the left room and the middle room beyond the door; the target only
+// the left room (as when a camera sees a robot farther than the laser maps). Around the known
+// position, with the heading unknown, a mean score over all source points can never reach the
+// gate (the unseen half scores 0); judged on the overlap, the true pose is found and accepted.
+TEST(MatchTargetOverlapTest, KnownPositionPartialOverlapIsJudgedOnTheOverlap) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  MatchTargetOptions options;
+  const MatchTarget target(
+      testing::GridFromScans(world, {Rigid2d(2, 6, 0), Rigid2d(4, 8, 0), Rigid2d(5, 4, 0)}, Rigid2d()), options);
+  MatchGates gates;
+  gates.min_score = 0.6;
+  gates.min_overlap = 0.3;
+  gates.min_inlier_fraction = 0.6;
+  for (double heading : {-2.0, 0.5, 2.9}) {
+    const Rigid2d source_in_world(6.0, 6.0, heading);
+    const OccupancyGrid source_grid = testing::GridFromScans(
+        world, {Rigid2d(5, 6, 0), Rigid2d(9, 6, 0), Rigid2d(10, 9.5, 0), Rigid2d(11, 4, 0)}, source_in_world);
+    const MatchSource source = MakeMatchSource(source_grid, Rigid2d(), options);
+    SearchWindow window;
+    window.center = Rigid2d(Eigen::Vector2d(6.05, 5.95), 0.0);
+    window.linear_half_extent = Eigen::Vector2d::Constant(0.15);
+    window.angular_half_extent = M_PI;
+    gates.judge_overlap_only = false;
+    const MatchResult all_points = target.Match(source, window, gates);
+    EXPECT_FALSE(all_points.accepted) << all_points.reason;
+    gates.judge_overlap_only = true;
+    const MatchResult result = target.Match(source, window, gates);
+    EXPECT_LT(result.overlap, 0.6) << result.reason;
+    EXPECT_TRUE(result.accepted) << result.reason;
+    EXPECT_THAT(result.pose, IsNearPose(source_in_world, 0.03, 0.3 * M_PI / 180))
+        << "heading " << heading << ": " << result.reason;
+    // The same source around a wrong position (1 m off) is not accepted.
+    window.center = Rigid2d(Eigen::Vector2d(5.0, 6.0), 0.0);
+    const MatchResult wrong = target.Match(source, window, gates);
+    EXPECT_FALSE(wrong.accepted) << wrong.reason;
+  }
+}
+
 // A stretch of straight corridor matches equally well anywhere along the corridor: ambiguous.
 TEST(MatchTargetCorridorTest, CorridorIsAmbiguous) {
   const testing::SegmentWorld world = testing::CorridorWorld();

@@ -92,6 +92,30 @@ TEST(MergeEngineTest, DetectionsAlignAnyRelativeHeading) {
   }
 }
 
+// The observer only mapped the left room; the seen robot comes from the middle and right rooms
+// (most of its map lies beyond the observer's). Two detections without heading still align it.
+TEST(MergeEngineTest, DetectionsAlignWhenTheSeenMapReachesPastTheObserver) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  MergeEngine engine(TestOptions());
+  SimRobot a{"a", testing::PathThrough({{1.5, 10.5}, {3, 10.5}, {3, 9}, {1.5, 9}, {1.5, 10.5}}, 0.25),
+             Rigid2d(1.5, 10.5, 0.3)};
+  const SimRobot b{"b", testing::PathThrough({{18, 10}, {14, 7}, {11, 5}, {10, 6}, {6, 6}, {3, 8}}, 0.25), Rigid2d(18, 10, -2.0)};
+  while (a.path.size() < b.path.size()) a.path.push_back(a.path.back());  // a waits
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  const size_t last = b.path.size() - 1;
+  ASSERT_TRUE(engine.AddDetection(Detect(a, b, last - 4, false)));
+  ASSERT_TRUE(engine.AddDetection(Detect(a, b, last, false)));
+  const MergeUpdate update = engine.Update();
+  for (const AlignmentEvent& e : update.events) {
+    EXPECT_LT(e.overlap, 0.7) << AlignmentEventTypeName(e.type) << " " << e.reason;
+  }
+  ASSERT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 1);
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
+}
+
 // Robots in a long featureless corridor: submap matching alone must not merge them.
 TEST(MergeEngineTest, CorridorDoesNotMergeWithoutDetection) {
   const testing::SegmentWorld world = testing::CorridorWorld();
@@ -108,6 +132,53 @@ TEST(MergeEngineTest, CorridorDoesNotMergeWithoutDetection) {
   }
   EXPECT_FALSE(engine.RobotToGlobal("b"));
   EXPECT_TRUE(engine.RobotToGlobal("a"));
+}
+
+// In a corridor, the seen robot's map turned end for end about the detected position fits the
+// observer's map as well, and better where more of it lands on the observer's map. Detections of
+// a robot standing still say nothing about its heading, and neither does matching more of its
+// own map: they must not confirm each other into an alignment.
+TEST(MergeEngineTest, DetectionsOfAStandingRobotInACorridorDoNotMerge) {
+  const testing::SegmentWorld world = testing::CorridorWorld();
+  MergeEngine engine(TestOptions());
+  SimRobot a{"a", testing::PathThrough({{2, 1}, {10, 1}}, 0.25), Rigid2d(2, 1, 0.0)};
+  SimRobot b{"b", testing::PathThrough({{28, 1}, {16, 1}}, 0.25), Rigid2d(28, 1, 0.7)};
+  const size_t stop = b.path.size();
+  while (b.path.size() < stop + 15) b.path.push_back(b.path.back());  // b stands still
+  while (a.path.size() < b.path.size()) a.path.push_back(a.path.back());
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  for (size_t step : {stop + 1, stop + 7, stop + 14}) ASSERT_TRUE(engine.AddDetection(Detect(a, b, step, false)));
+  const MergeUpdate update = engine.Update();
+  for (const AlignmentEvent& e : update.events) {
+    EXPECT_NE(e.type, AlignmentEventType::kAlignmentAccepted) << e.reason;
+  }
+  EXPECT_FALSE(engine.RobotToGlobal("b"));
+}
+
+// The same corridor with the seen robot driving: its map turned end for end still fits better
+// (more of it lands on the observer's map), but where it moved, seen from the observer, against
+// where it moved in its own map gives the heading; searched around that, the detections align it.
+TEST(MergeEngineTest, DetectionsOfADrivingRobotInACorridorAlignItByItsMotion) {
+  const testing::SegmentWorld world = testing::CorridorWorld();
+  MergeEngine engine(TestOptions());
+  SimRobot a{"a", testing::PathThrough({{2, 1}, {12, 1}}, 0.25), Rigid2d(2, 1, 0.0)};
+  const SimRobot b{"b", testing::PathThrough({{28, 1}, {16, 1}}, 0.25), Rigid2d(28, 1, 0.7)};
+  while (a.path.size() < b.path.size()) a.path.push_back(a.path.back());
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  const size_t last = b.path.size() - 1;
+  for (size_t step : {last - 12, last - 8, last - 4, last}) {
+    ASSERT_TRUE(engine.AddDetection(Detect(a, b, step, false)));
+  }
+  const MergeUpdate update = engine.Update();
+  EXPECT_GE(Count(update, AlignmentEventType::kAlignmentAccepted), 1);
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  // The heading is right (turned end for end, b would be metres off). Along a featureless
+  // corridor only the detections fix the position, but the match edge claims 2 cm there too
+  // (isotropic match sigmas), so the lattice's pick within the detection window stays.
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.25, 0.5 * M_PI / 180));
 }
 
 // 20 detections, two of them corrupted (10 %): the corrupted ones are rejected, never used.

@@ -185,11 +185,15 @@ class MergeE2eTest : public ::testing::Test {
   std::unique_ptr<v1::MapService::Stub> stub_;
 };
 
-// DISABLED until issue 8 is done: with the scan-matching backend's drift in the department
-// corridors, the server's merge of robots with unknown start poses is wrong or incomplete (pair
-// errors of metres, ~30 % of map cells on true walls; see docs/BENCHMARKS.md, "Merge in the
-// simulator"). The test runs (--gtest_also_run_disabled_tests) and must pass before issue 8
-// is closed; its tolerances are bounds that catch a wrong merge, not the 3 cm target.
+// DISABLED until issue 8 is done: the scan-matching backend slips while other robots are in its
+// laser's view (in this scenario robot3 follows robot1 3 m behind: robot1's local SLAM is 1 m
+// off after 5 s, 2.2 m at the end; robot2 1.8 m), so the maps to merge disagree by metres and
+// the server does not place every robot (run on 2026-12-01: not all placed within 30 s;
+// fleetmap-merge-sim-bench on this scenario, no detections: robot1-robot3 merged 1.8 m off,
+// robot2 not placed). With other robots left out of the simulated scans (a local experiment)
+// local SLAM ends within 0.14 m and robot1-robot3 merge within 0.02 m. The
+// test runs (--gtest_also_run_disabled_tests) and must pass before issue 8 is closed; its
+// tolerances are bounds that catch a wrong merge, not the 3 cm target.
 TEST_F(MergeE2eTest, DISABLED_AgentsWithUnknownStartsAreMergedByTheServer) {
   ASSERT_TRUE(StartServer()) << Logs();
   std::vector<std::unique_ptr<E2eProcess>> agents;

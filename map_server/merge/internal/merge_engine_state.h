@@ -42,6 +42,8 @@ struct MergeEngine::Hypothesis {
   std::string robot_b;
   Rigid2d local_b_in_local_a;
   std::optional<size_t> detection;
+  // For a detection: where robot_b stood in its own local frame at the detection time.
+  Eigen::Vector2d observed_in_local = Eigen::Vector2d::Zero();
   std::set<int64_t> submaps_b;
   RelativeEdge edge;  // the match as a graph edge, once the components are joined
   std::optional<DetectionEdge> detection_edge;
