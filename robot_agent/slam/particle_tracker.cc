@@ -17,6 +17,12 @@ ScanMatcherOptions ParticleTrackerOptions::DefaultMatcherOptions() {
   return options;
 }
 
+MatchGridOptions ParticleTrackerOptions::DefaultGrid() {
+  MatchGridOptions options;
+  options.join_scan_returns = false;
+  return options;
+}
+
 ParticleTracker::ParticleTracker(const ParticleTrackerOptions& options)
     : options_(options), target_(options.grid) {}
 
