@@ -12,11 +12,24 @@
 namespace fleetmap {
 
 struct LocalMatchMapOptions {
-  MatchGridOptions grid;
+  // The grids track the space their scans saw (MatchGridOptions::track_observed), only to
+  // recognise returns from objects that moved there (see moved_object_clearance).
+  MatchGridOptions grid = DefaultGrid();
+  // A return that lands inside space the fullest grid saw free (MatchGrid::SeenFree), farther
+  // than this (metres) from every obstacle in it, comes from something that moved there
+  // (another robot, a person) and is left out of the map: a static wall never appears inside
+  // seen free space, and a moving one, kept, drags the next scans' matches along with it
+  // (another robot driving towards this one in a corridor made its path 1 % too long). It must
+  // stay below how far such an object moves between two insertions (~0.1 m for a robot at
+  // walking pace: each new return would otherwise lie next to the last one kept) and above a
+  // cell plus the range noise. 0 keeps every return.
+  double moved_object_clearance = 0.08;
   // Each of the two overlapping grids holds up to 2 * scans_per_grid scans; a new grid starts
   // every scans_per_grid scans, so the target always holds between scans_per_grid and
   // 2 * scans_per_grid recent scans.
   int scans_per_grid = 30;
+
+  static MatchGridOptions DefaultGrid();
 };
 
 // The map of recent scans a new scan is matched against (Hähnel-style local map). Two
@@ -28,7 +41,10 @@ class LocalMatchMap {
   explicit LocalMatchMap(const LocalMatchMapOptions& options);
 
   // Adds a scan's points (robot frame) taken at `robot_in_local`.
-  void Insert(const std::vector<Eigen::Vector2f>& points_in_robot, const Rigid2d& robot_in_local);
+  // `free_ends_in_robot`: where the beams that saw nothing end (the range limit), so that the
+  // space they crossed counts as seen.
+  void Insert(const std::vector<Eigen::Vector2f>& points_in_robot,
+              const std::vector<Eigen::Vector2f>& free_ends_in_robot, const Rigid2d& robot_in_local);
   // The grid to match against; empty before the first insertion.
   const MatchGrid& target() const { return *grids_.front().grid; }
   int inserted_scans() const { return inserted_; }

@@ -67,7 +67,7 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
   trajectory_.push_back({scan.timestamp, loop_closure_.CorrectionAt(scan.timestamp) * pose});
 
   if (!points.empty() && ShouldInsert(pose, scan.timestamp)) {
-    local_map_.Insert(points, pose);
+    local_map_.Insert(points, NoReturnEnds(scan), pose);
     LaserScan limited = scan;
     for (float& range : limited.ranges) {
       if (range > options_.max_range) range = LaserScan::kNoReturn;
@@ -83,8 +83,23 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
   return true;
 }
 
+float ScanMatchingSlam::Horizon(const LaserScan& scan) const {
+  return std::min(options_.max_range, scan.range_max > 0.0f ? scan.range_max : options_.max_range);
+}
+
+std::vector<Eigen::Vector2f> ScanMatchingSlam::NoReturnEnds(const LaserScan& scan) const {
+  const float horizon = Horizon(scan);
+  std::vector<Eigen::Vector2f> ends;
+  for (int i = 0; i < scan.size(); ++i) {
+    if (scan.IsReturn(i) && scan.ranges[static_cast<size_t>(i)] <= horizon) continue;
+    const double angle = static_cast<double>(scan.angle(i));
+    ends.push_back((scan.sensor_in_robot * Eigen::Vector2d(horizon * std::cos(angle), horizon * std::sin(angle))).cast<float>());
+  }
+  return ends;
+}
+
 std::vector<Eigen::Vector2f> ScanMatchingSlam::PointsInsideHorizon(const LaserScan& scan) const {
-  const float horizon = std::min(options_.max_range, scan.range_max > 0.0f ? scan.range_max : options_.max_range);
+  const float horizon = Horizon(scan);
   LaserScan inside = scan;
   const float limit = horizon - options_.match_range_margin;
   for (float& range : inside.ranges) {

@@ -87,6 +87,10 @@ class ScanMatchingSlam : public LocalSlam {
                 const std::vector<Eigen::Vector2f>& beam_points);
   // The scan's returns in the robot frame, less those within match_range_margin of its horizon.
   std::vector<Eigen::Vector2f> PointsInsideHorizon(const LaserScan& scan) const;
+  // The smaller of the scan's range_max and max_range.
+  float Horizon(const LaserScan& scan) const;
+  // Robot-frame ends, at the horizon, of the beams that saw nothing within it.
+  std::vector<Eigen::Vector2f> NoReturnEnds(const LaserScan& scan) const;
   bool ShouldInsert(const Rigid2d& pose, double timestamp) const;
   // After a graph optimisation: re-derives every scan's corrected pose.
   void ApplyCorrections();

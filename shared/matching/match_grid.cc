@@ -83,29 +83,46 @@ void MatchGrid::AddPoint(const Eigen::Vector2d& point) {
   Stamp(element);
 }
 
-void MatchGrid::AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
-                          const Rigid2d& frame_in_map) {
+namespace {
+
+std::vector<Eigen::Vector2d> ToMap(const std::vector<Eigen::Vector2f>& points_in_frame,
+                                   const Rigid2d& frame_in_map) {
   std::vector<Eigen::Vector2d> points;
   points.reserve(points_in_frame.size());
   for (const Eigen::Vector2f& p : points_in_frame) {
     const Eigen::Vector2d q = frame_in_map * Eigen::Vector2d(p.cast<double>());
     if (q.allFinite()) points.push_back(q);
   }
-  const Eigen::Vector2d origin = frame_in_map.translation();
-  AddBatch(points, &origin);
+  return points;
 }
 
-void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d* origin) {
-  if (points.empty()) return;
+}  // namespace
+
+void MatchGrid::AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
+                          const Rigid2d& frame_in_map) {
+  AddPoints(points_in_frame, {}, frame_in_map);
+}
+
+void MatchGrid::AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
+                          const std::vector<Eigen::Vector2f>& free_ends_in_frame,
+                          const Rigid2d& frame_in_map) {
+  const Eigen::Vector2d origin = frame_in_map.translation();
+  AddBatch(ToMap(points_in_frame, frame_in_map), &origin, ToMap(free_ends_in_frame, frame_in_map));
+}
+
+void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d* origin,
+                         const std::vector<Eigen::Vector2d>& free_ends) {
   const bool trace = options_.track_observed && origin != nullptr && origin->allFinite();
-  Eigen::Vector2d lo = points.front(), hi = points.front();
-  for (const Eigen::Vector2d& p : points) {
+  if (points.empty() && (!trace || free_ends.empty())) return;
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = Eigen::Vector2d::Constant(-INFINITY);
+  auto include = [&](const Eigen::Vector2d& p) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
-  }
+  };
+  for (const Eigen::Vector2d& p : points) include(p);
   if (trace) {
-    lo = lo.cwiseMin(*origin);
-    hi = hi.cwiseMax(*origin);
+    include(*origin);
+    for (const Eigen::Vector2d& p : free_ends) include(p);
   }
   // Wall pieces reach a little past their points.
   const Eigen::Vector2d reach = Eigen::Vector2d::Constant(options_.surface.max_extent);
@@ -120,6 +137,7 @@ void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen
   }
   if (trace) {
     for (const Eigen::Vector2d& p : points) MarkRay(*origin, p);
+    for (const Eigen::Vector2d& p : free_ends) MarkRay(*origin, p);
   }
 }
 
@@ -148,6 +166,19 @@ void MatchGrid::MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to) 
       y += step_y;
     }
   }
+}
+
+bool MatchGrid::SeenFree(const Eigen::Vector2d& point, double clearance) const {
+  if (!options_.track_observed) return false;
+  const Eigen::Vector2d g = (point - origin_) / options_.resolution;
+  if (!(g.x() >= 1.0 && g.y() >= 1.0 && g.x() < width_ - 1 && g.y() < height_ - 1)) return false;
+  const int x = static_cast<int>(g.x()), y = static_cast<int>(g.y());
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      if (!CellObserved(x + dx, y + dy)) return false;
+    }
+  }
+  return CellSquaredDistance(x, y) > clearance * clearance;
 }
 
 bool MatchGrid::Observed(const Eigen::Vector2d& point) const {

@@ -75,6 +75,10 @@ class MatchGrid {
   // Adds a scan's `points_in_frame` (in beam order, seen from the frame's origin) transformed by
   // `frame_in_map`, fitted to the walls they lie on; grows the grid once for all of them.
   void AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame, const Rigid2d& frame_in_map);
+  // The same, and with track_observed the rays to `free_ends_in_frame` (beams that saw nothing up
+  // to there) mark space as seen without adding obstacles.
+  void AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
+                 const std::vector<Eigen::Vector2f>& free_ends_in_frame, const Rigid2d& frame_in_map);
 
   double max_squared_distance() const { return options_.max_distance * options_.max_distance; }
   // Squared distance at a cell centre; max_distance^2 outside the grid.
@@ -97,6 +101,11 @@ class MatchGrid {
   }
   // Whether any scan saw the cell holding `point` (true when not tracked).
   bool Observed(const Eigen::Vector2d& point) const;
+  // Whether `point` lies inside space the scans saw free: its cell and all 8 around it were
+  // crossed by rays, and no obstacle in the grid is within `clearance` (metres). A cell next to
+  // any surface never qualifies (the cells behind a wall or inside a pillar are never crossed),
+  // however closely rays have passed it. Always false when observed cells are not tracked.
+  bool SeenFree(const Eigen::Vector2d& point, double clearance) const;
   // Per-cell score for correlative search, 0..1: 1 - d^2 / max^2 near obstacles, at least
   // unknown_score in cells no scan saw (see MatchGridOptions::track_observed).
   float CellScore(int x, int y) const;
@@ -108,7 +117,8 @@ class MatchGrid {
   void GrowToInclude(const Eigen::Vector2d& min, const Eigen::Vector2d& max);
   // Fits the batch to its walls and stamps every element (grows the grid first). With
   // track_observed, also marks the rays from `origin` to the points as seen.
-  void AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d* origin);
+  void AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d* origin,
+                const std::vector<Eigen::Vector2d>& free_ends = {});
   void MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to);
   void Stamp(const SurfaceElement& element);
 

@@ -126,6 +126,31 @@ TEST(MatchGridTest, TrackedGridScoresUnseenCellsAsUnknown) {
   EXPECT_FLOAT_EQ(plain.CellScore(static_cast<int>(g.x()), static_cast<int>(g.y())), 0.0f);
 }
 
+// Seen free means inside the space rays crossed: a spot next to a wall that rays grazed on their
+// way further along it is not, however many rays passed.
+TEST(MatchGridTest, SeenFreeIsTheInteriorOfCrossedSpace) {
+  MatchGridOptions options;
+  options.track_observed = true;
+  MatchGrid grid(options);
+  // A robot at the origin, a wall 1 m to its right seen far ahead at shallow angles, and beams
+  // straight ahead that saw nothing within 8 m.
+  std::vector<Eigen::Vector2f> wall;
+  for (double angle = -0.24; angle < -0.12; angle += 0.0175) {
+    wall.emplace_back(static_cast<float>(-1.0 / std::tan(angle)), -1.0f);
+  }
+  std::vector<Eigen::Vector2f> nothing;
+  for (int degree = -10; degree <= 10; ++degree) {
+    const double angle = degree * M_PI / 180.0;
+    nothing.emplace_back(static_cast<float>(8.0 * std::cos(angle)), static_cast<float>(8.0 * std::sin(angle)));
+  }
+  grid.AddPoints(wall, nothing, Rigid2d());
+  EXPECT_TRUE(grid.SeenFree(Eigen::Vector2d(2.0, 0.02), 0.08));    // mid-corridor, crossed
+  EXPECT_FALSE(grid.SeenFree(Eigen::Vector2d(5.0, -0.99), 0.08));  // on the wall, grazed
+  EXPECT_FALSE(grid.SeenFree(Eigen::Vector2d(5.0, -1.3), 0.08));   // behind it
+  EXPECT_FALSE(grid.SeenFree(Eigen::Vector2d(-1.0, 0.0), 0.08));   // behind the robot
+  EXPECT_FALSE(MatchGrid().SeenFree(Eigen::Vector2d(3.0, 0.0), 0.08));  // not tracked
+}
+
 TEST(MatchGridTest, GrowingKeepsEarlierPoints) {
   MatchGrid grid;
   grid.AddPoint(Eigen::Vector2d(0.0, 0.0));
