@@ -92,6 +92,30 @@ TEST(ScanMatchingSlamTest, MapsASimulatedLoopWithBoundedError) {
   EXPECT_EQ(submaps.front().scan_poses.size(), 50u);
 }
 
+// Drives `slam` with exact odometry along `truth_at(i)` for i = 0..last, one 8 m, 181-beam scan
+// of `world_at(i)` every 0.1 s, with loop closure off; returns the last true pose relative to
+// the first (the frame local SLAM reports in).
+template <typename WorldAt, typename TruthAt>
+Rigid2d DriveExactly(int last, WorldAt world_at, TruthAt truth_at, ScanMatchingSlam* slam) {
+  std::string error;
+  for (int i = 0; i <= last; ++i) {
+    const double t = 0.1 * i;
+    const Rigid2d truth = truth_at(i);
+    EXPECT_TRUE(slam->AddOdometry({t, truth}, &error)) << error;
+    LaserScan scan = testing::SimulateScan(world_at(i), truth, 181, static_cast<float>(-M_PI / 2),
+                                           static_cast<float>(M_PI / 180), 8.0f);
+    scan.timestamp = t;
+    EXPECT_TRUE(slam->AddScan(scan, &error)) << error;
+  }
+  return truth_at(0).inverse() * truth_at(last);
+}
+
+ScanMatchingSlamOptions WithoutLoopClosure() {
+  ScanMatchingSlamOptions options;
+  options.loop_closure.enabled = false;
+  return options;
+}
+
 // A plain corridor longer than the laser's range, driven with exact odometry: its side walls
 // end in the map where earlier scans' horizon cut them, and when the far end wall comes into
 // range the corridor check stops keeping odometry along the axis. Matching the returns near
@@ -100,21 +124,10 @@ TEST(ScanMatchingSlamTest, KeepsItsDistanceWhenACorridorsEndComesIntoRange) {
   const testing::SegmentWorld corridor = {{Eigen::Vector2d(-1.0, -1.0), Eigen::Vector2d(25.0, -1.0)},
                                           {Eigen::Vector2d(-1.0, 1.0), Eigen::Vector2d(25.0, 1.0)},
                                           {Eigen::Vector2d(25.0, -1.0), Eigen::Vector2d(25.0, 1.0)}};
-  ScanMatchingSlamOptions options;
-  options.loop_closure.enabled = false;
-  ScanMatchingSlam slam(options);
-  std::string error;
-  Rigid2d truth;
-  for (int i = 0; i <= 440; ++i) {
-    const double t = 0.1 * i;
-    truth = Rigid2d(0.05 * i, 0.0, 0.0);
-    ASSERT_TRUE(slam.AddOdometry({t, truth}, &error)) << error;
-    LaserScan scan = testing::SimulateScan(corridor, truth, 181, static_cast<float>(-M_PI / 2),
-                                           static_cast<float>(M_PI / 180), 8.0f);
-    scan.timestamp = t;
-    ASSERT_TRUE(slam.AddScan(scan, &error)) << error;
-  }
-  EXPECT_THAT(slam.CurrentPose(), IsNearPose(truth, 0.03, 0.2 * kDegree));
+  ScanMatchingSlam slam(WithoutLoopClosure());
+  const Rigid2d end = DriveExactly(440, [&](int) { return corridor; },
+                                   [](int i) { return Rigid2d(0.05 * i, 0.0, 0.0); }, &slam);
+  EXPECT_THAT(slam.CurrentPose(), IsNearPose(end, 0.03, 0.2 * kDegree));
 }
 
 // Driving a plain corridor off its centre line with exact odometry: the frontend used to turn by
@@ -125,22 +138,10 @@ TEST(ScanMatchingSlamTest, KeepsItsDistanceWhenACorridorsEndComesIntoRange) {
 TEST(ScanMatchingSlamTest, HoldsItsHeadingOffTheCentreOfALongCorridor) {
   const testing::SegmentWorld corridor = {{Eigen::Vector2d(-2.0, -1.2), Eigen::Vector2d(120.0, -1.2)},
                                           {Eigen::Vector2d(-2.0, 1.2), Eigen::Vector2d(120.0, 1.2)}};
-  ScanMatchingSlamOptions options;
-  options.loop_closure.enabled = false;
-  ScanMatchingSlam slam(options);
-  std::string error;
-  Rigid2d truth;
-  for (int i = 0; i <= 1250; ++i) {
-    const double t = 0.1 * i;
-    truth = Rigid2d(0.08 * i, -0.4, 0.0);
-    ASSERT_TRUE(slam.AddOdometry({t, truth}, &error)) << error;
-    LaserScan scan = testing::SimulateScan(corridor, truth, 181, static_cast<float>(-M_PI / 2),
-                                           static_cast<float>(M_PI / 180), 8.0f);
-    scan.timestamp = t;
-    ASSERT_TRUE(slam.AddScan(scan, &error)) << error;
-  }
-  const Rigid2d start(0.0, -0.4, 0.0);
-  EXPECT_THAT(slam.CurrentPose(), IsNearPose(start.inverse() * truth, 0.1, 0.1 * kDegree));
+  ScanMatchingSlam slam(WithoutLoopClosure());
+  const Rigid2d end = DriveExactly(1250, [&](int) { return corridor; },
+                                   [](int i) { return Rigid2d(0.08 * i, -0.4, 0.0); }, &slam);
+  EXPECT_THAT(slam.CurrentPose(), IsNearPose(end, 0.1, 0.1 * kDegree));
 }
 
 // Another robot (a 0.4 m box) drives head-on towards this one down a plain corridor and passes
@@ -157,25 +158,15 @@ TEST(ScanMatchingSlamTest, AnOncomingRobotDoesNotDragTheMatch) {
       corridor.push_back({Eigen::Vector2d(x + offset + 6.0, side), Eigen::Vector2d(x + offset + 6.0, side * 1.5)});
     }
   }
-  ScanMatchingSlamOptions options;
-  options.loop_closure.enabled = false;
-  ScanMatchingSlam slam(options);
-  std::string error;
-  Rigid2d truth;
-  for (int i = 0; i <= 250; ++i) {
-    const double t = 0.1 * i;
-    truth = Rigid2d(0.06 * i, -0.4, 0.0);
+  auto world_at = [&](int i) {
     const double other_x = 20.0 - 0.06 * i;  // closing at 1.2 m/s, passing at t = 16.7 s
     testing::SegmentWorld world = corridor;
     testing::AddBox(Eigen::Vector2d(other_x - 0.2, 0.2), Eigen::Vector2d(other_x + 0.2, 0.6), &world);
-    ASSERT_TRUE(slam.AddOdometry({t, truth}, &error)) << error;
-    LaserScan scan = testing::SimulateScan(world, truth, 181, static_cast<float>(-M_PI / 2),
-                                           static_cast<float>(M_PI / 180), 8.0f);
-    scan.timestamp = t;
-    ASSERT_TRUE(slam.AddScan(scan, &error)) << error;
-  }
-  const Rigid2d start(0.0, -0.4, 0.0);
-  EXPECT_THAT(slam.CurrentPose(), IsNearPose(start.inverse() * truth, 0.05, 0.3 * kDegree));
+    return world;
+  };
+  ScanMatchingSlam slam(WithoutLoopClosure());
+  const Rigid2d end = DriveExactly(250, world_at, [](int i) { return Rigid2d(0.06 * i, -0.4, 0.0); }, &slam);
+  EXPECT_THAT(slam.CurrentPose(), IsNearPose(end, 0.05, 0.3 * kDegree));
 }
 
 TEST(ScanMatchingSlamTest, RejectsTimeGoingBackwards) {
