@@ -57,6 +57,10 @@ struct MergeEngineOptions {
   // A detection between joined robots is consistent when within this Mahalanobis distance,
   // with this floor added to the detection's standard deviation (our poses are not exact).
   double detection_gate = 4.0;
+  // A hypothesis (from matching or a detection) is refused when at least this many detections
+  // already received between the two parts contradict it (beyond detection_gate), and more
+  // contradict than agree.
+  int min_contradicting_detections = 2;
   double detection_sigma_floor = 0.1;
 
   // Work bounds per Update(): global searches are the expensive part.
@@ -182,6 +186,12 @@ class MergeEngine {
                                              const Box2d& box) const;
   Rigid2d FrameTransform(const Hypothesis& hypothesis) const;
   bool Agree(const Hypothesis& a, const Hypothesis& b) const;
+  struct DetectionVotes {
+    int agreeing = 0;
+    int contradicting = 0;
+  };
+  // The stored detections between h's two parts, judged at h's alignment.
+  DetectionVotes DetectionsAbout(const Hypothesis& h) const;
   const MatchSource& SubmapSource(const std::string& robot, int64_t submap_id);
   std::optional<NodeId> NearestNode(const std::string& root, const std::string& excluded,
                                     const Eigen::Vector2d& point_in_frame) const;

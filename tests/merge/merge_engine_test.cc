@@ -227,6 +227,34 @@ TEST(MergeEngineTest, CrossMatchingMergesWithoutDetections) {
   EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
 }
 
+// Detections already received overrule a submap match that contradicts them: in a nearly
+// symmetric building the map turned round matches as well as the true one, and every further
+// submap agrees with it. Here the detections (consistent with each other) put b 3 m from where
+// the match would; the match must not be accepted, and the event says why.
+TEST(MergeEngineTest, DetectionsThatContradictAMatchOverruleIt) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  MergeEngineOptions options;
+  options.max_global_searches_per_update = 100;
+  MergeEngine engine(options);
+  const SimRobot a = RobotA(), b = RobotB(-2.4);
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  for (size_t step : {10u, 20u, 30u}) {
+    RobotDetection d = Detect(a, b, step, false);
+    d.position_in_observer += Eigen::Vector2d(3.0, 0.0);
+    ASSERT_TRUE(engine.AddDetection(d));
+  }
+  const MergeUpdate update = engine.Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 0);
+  bool overruled = false;
+  for (const AlignmentEvent& e : update.events) {
+    overruled = overruled || (e.evidence == EvidenceKind::kCrossMatch &&
+                              e.reason.find("contradicted by 3 detections") != std::string::npos);
+  }
+  EXPECT_TRUE(overruled);
+  EXPECT_FALSE(EstimatedRelative(engine, "a", "b").has_value());
+}
+
 // A single detection that no other submap can confirm stays a hypothesis; a second, independent
 // detection that agrees turns it into an alignment.
 TEST(MergeEngineTest, SingleDetectionStaysHypothesisUntilConfirmed) {
