@@ -212,14 +212,21 @@ TEST(MergeEngineTest, CorruptedDetectionsAreRejected) {
 }
 
 // No detections at all but large overlap: cross-robot matching merges, correctly.
-TEST(MergeEngineTest, CrossMatchingMergesWithoutDetections) {
-  const testing::SegmentWorld world = testing::OfficeWorld();
+// An engine that searches without detections, fed robots a and b (whose maps overlap).
+std::unique_ptr<MergeEngine> OverlappingRobotsWithSearches(const SimRobot& a, const SimRobot& b) {
   MergeEngineOptions options;
   options.max_global_searches_per_update = 100;
-  MergeEngine engine(options);
+  auto engine = std::make_unique<MergeEngine>(options);
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  Feed(world, a, engine.get());
+  Feed(world, b, engine.get());
+  return engine;
+}
+
+TEST(MergeEngineTest, CrossMatchingMergesWithoutDetections) {
   const SimRobot a = RobotA(), b = RobotB(-2.4);
-  Feed(world, a, &engine);
-  Feed(world, b, &engine);
+  auto engine_owner = OverlappingRobotsWithSearches(a, b);
+  MergeEngine& engine = *engine_owner;
   const MergeUpdate update = engine.Update();
   EXPECT_GE(Count(update, AlignmentEventType::kAlignmentAccepted), 1);
   const auto rel = EstimatedRelative(engine, "a", "b");
@@ -232,13 +239,9 @@ TEST(MergeEngineTest, CrossMatchingMergesWithoutDetections) {
 // submap agrees with it. Here the detections (consistent with each other) put b 3 m from where
 // the match would; the match must not be accepted, and the event says why.
 TEST(MergeEngineTest, DetectionsThatContradictAMatchOverruleIt) {
-  const testing::SegmentWorld world = testing::OfficeWorld();
-  MergeEngineOptions options;
-  options.max_global_searches_per_update = 100;
-  MergeEngine engine(options);
   const SimRobot a = RobotA(), b = RobotB(-2.4);
-  Feed(world, a, &engine);
-  Feed(world, b, &engine);
+  auto engine_owner = OverlappingRobotsWithSearches(a, b);
+  MergeEngine& engine = *engine_owner;
   for (size_t step : {10u, 20u, 30u}) {
     RobotDetection d = Detect(a, b, step, false);
     d.position_in_observer += Eigen::Vector2d(3.0, 0.0);
