@@ -20,8 +20,9 @@ testing::SegmentWorld Room() {
   return world;
 }
 
-ParticleScan ScanAt(const Rigid2d& pose, bool with_points = true) {
-  const LaserScan scan = testing::SimulateScan(Room(), pose, 361, -M_PI, M_PI / 180, 15.0f);
+// A filter input from a simulated scan: points matched and weighted (one per 10 cm voxel, or
+// none), and every return as a ray hit.
+ParticleScan ToParticleScan(const LaserScan& scan, bool with_points = true) {
   ParticleScan out;
   if (with_points) out.match_points = VoxelFilter(ToPointsInRobotFrame(scan), 0.1f);
   out.weight_points = out.match_points;
@@ -34,6 +35,10 @@ ParticleScan ScanAt(const Rigid2d& pose, bool with_points = true) {
   return out;
 }
 
+ParticleScan ScanAt(const Rigid2d& pose, bool with_points = true) {
+  return ToParticleScan(testing::SimulateScan(Room(), pose, 361, -M_PI, M_PI / 180, 15.0f), with_points);
+}
+
 // A plain corridor (no end in the laser's 8 m) seen from x = 0, then from x = 1 m: along the
 // axis the scan says nothing, so both proposals keep the predicted translation there instead of
 // letting the match slide (here, with every return matched, the ICP pulled it 0.1-0.2 m back
@@ -44,17 +49,8 @@ TEST(ParticleFilterTest, ProposalsKeepThePredictionAlongAPlainCorridor) {
       {Eigen::Vector2d(-1.0, 1.0), Eigen::Vector2d(40.0, 1.0)}};
   auto scan_at = [&](const Rigid2d& pose) {
     const LaserScan scan = testing::SimulateScan(corridor, pose, 181, -M_PI / 2, M_PI / 180, 8.0f);
-    ParticleScan out;
-    const std::vector<Eigen::Vector2f> points = ToPointsInRobotFrame(scan);
-    out.match_points = VoxelFilter(points, 0.1f);
-    out.weight_points = out.match_points;
-    out.normal_scatter = NormalScatter(points);
-    for (size_t i = 0; i < scan.ranges.size(); ++i) {
-      if (!std::isfinite(scan.ranges[i])) continue;
-      const double a = scan.angle(static_cast<int>(i));
-      out.ray_ends.emplace_back(scan.ranges[i] * std::cos(a), scan.ranges[i] * std::sin(a));
-      out.ray_hits.push_back(1);
-    }
+    ParticleScan out = ToParticleScan(scan);
+    out.normal_scatter = NormalScatter(ToPointsInRobotFrame(scan));
     return out;
   };
   for (ParticleProposal proposal :
