@@ -22,7 +22,8 @@ struct LocalMatchMapOptions {
   // (another robot driving towards this one in a corridor made its path 1 % too long). It must
   // stay below how far such an object moves between two insertions (~0.1 m for a robot at
   // walking pace: each new return would otherwise lie next to the last one kept) and above a
-  // cell plus the range noise. 0 keeps every return.
+  // cell plus the range noise; 0.08 was the best of 0.05 / 0.08 / 0.15 on the simulator's
+  // department and rectangle scenarios. 0 keeps every return.
   double moved_object_clearance = 0.08;
   // Each of the two overlapping grids holds up to 2 * scans_per_grid scans; a new grid starts
   // every scans_per_grid scans, so the target always holds between scans_per_grid and
