@@ -192,6 +192,11 @@ class MergeEngine {
   };
   // The stored detections between h's two parts, judged at h's alignment.
   DetectionVotes DetectionsAbout(const Hypothesis& h) const;
+  // A robot's pose at `time` in its component's frame; empty without a pose then.
+  std::optional<Rigid2d> RobotInComponent(const std::string& robot, double time) const;
+  // Mahalanobis distance of a detection to the observer and observed poses (one frame), over
+  // position (its covariance plus detection_sigma_floor) and, when measured, relative heading.
+  double DetectionDistance(const RobotDetection& d, const Rigid2d& observer, const Rigid2d& observed) const;
   const MatchSource& SubmapSource(const std::string& robot, int64_t submap_id);
   std::optional<NodeId> NearestNode(const std::string& root, const std::string& excluded,
                                     const Eigen::Vector2d& point_in_frame) const;

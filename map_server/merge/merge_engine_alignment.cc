@@ -15,6 +15,9 @@
 namespace fleetmap {
 namespace {
 
+// Added to a detection's relative-heading variance (rad^2): our own headings are not exact.
+constexpr double kHeadingVarianceFloor = 1e-4;
+
 Box2d Grow(Box2d box, double margin) {
   box.min.array() -= margin;
   box.max.array() += margin;
@@ -38,6 +41,27 @@ void FillEvent(const MatchResult& r, AlignmentEvent* event) {
 }
 
 }  // namespace
+
+std::optional<Rigid2d> MergeEngine::RobotInComponent(const std::string& robot, double time) const {
+  const auto at = PoseAtTime(robot, time);
+  if (!at) return std::nullopt;
+  const auto node = graph_.NodePose({robot, at->host_submap});
+  if (!node) return std::nullopt;
+  return *node * at->robot_in_node;
+}
+
+double MergeEngine::DetectionDistance(const RobotDetection& d, const Rigid2d& observer,
+                                      const Rigid2d& observed) const {
+  const double floor2 = options_.detection_sigma_floor * options_.detection_sigma_floor;
+  const Eigen::Matrix2d covariance = d.covariance + floor2 * Eigen::Matrix2d::Identity();
+  const Eigen::Vector2d error = observer.inverse() * observed.translation() - d.position_in_observer;
+  double m = std::sqrt(error.dot(covariance.inverse() * error));
+  if (d.relative_heading) {
+    const double dh = NormalizeAngle(observed.rotation() - observer.rotation() - *d.relative_heading);
+    m = std::max(m, std::abs(dh) / std::sqrt(d.relative_heading_variance + kHeadingVarianceFloor));
+  }
+  return m;
+}
 
 std::optional<MergeEngine::TimedPose> MergeEngine::PoseAtTime(const std::string& robot, double time) const {
   const auto it = robots_.find(robot);
@@ -205,17 +229,13 @@ void MergeEngine::ProcessDetection(size_t index, MergeUpdate* update, bool* keep
   const double floor2 = options_.detection_sigma_floor * options_.detection_sigma_floor;
   detection_edge.covariance = d.covariance + floor2 * Eigen::Matrix2d::Identity();
   detection_edge.relative_heading = d.relative_heading;
-  detection_edge.heading_variance = d.relative_heading_variance + 1e-4;
+  detection_edge.heading_variance = d.relative_heading_variance + kHeadingVarianceFloor;
   detection_edge.robust_scale = options_.robust_scale;
 
   if (Root(d.observer_id) == Root(d.observed_id)) {
     // Joined already: the detection is a constraint if it agrees with the map, else an outlier.
     const Eigen::Vector2d error = a_robot.inverse() * b_robot.translation() - d.position_in_observer;
-    double m = std::sqrt(error.dot(detection_edge.covariance.inverse() * error));
-    if (d.relative_heading) {
-      const double dh = NormalizeAngle(b_robot.rotation() - a_robot.rotation() - *d.relative_heading);
-      m = std::max(m, std::abs(dh) / std::sqrt(detection_edge.heading_variance));
-    }
+    const double m = DetectionDistance(d, a_robot, b_robot);
     event.residual = error.norm();
     std::ostringstream os;
     os.precision(3);

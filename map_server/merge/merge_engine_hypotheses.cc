@@ -5,8 +5,6 @@
 #include <cmath>
 #include <sstream>
 
-#include <Eigen/LU>
-
 #include "map_server/merge/grid_points.h"
 #include "map_server/merge/internal/merge_engine_state.h"
 #include "map_server/merge/merge_engine.h"
@@ -34,25 +32,19 @@ MergeEngine::DetectionVotes MergeEngine::DetectionsAbout(const Hypothesis& h) co
   DetectionVotes votes;
   const std::string root_a = Root(h.robot_a), root_b = Root(h.robot_b);
   const Rigid2d b_in_a = FrameTransform(h);
-  auto pose_in_a = [&](const std::string& robot, double time) -> std::optional<Rigid2d> {
-    const auto at = PoseAtTime(robot, time);
-    if (!at) return std::nullopt;
-    const auto node = graph_.NodePose({robot, at->host_submap});
-    if (!node) return std::nullopt;
-    const Rigid2d in_root = *node * at->robot_in_node;
-    return Root(robot) == root_a ? in_root : b_in_a * in_root;
+  // Both robots' poses in root_a's frame, as they would be if h were accepted.
+  auto in_a = [&](const std::string& robot, double time) -> std::optional<Rigid2d> {
+    const auto pose = RobotInComponent(robot, time);
+    if (!pose) return std::nullopt;
+    return Root(robot) == root_a ? *pose : b_in_a * *pose;
   };
-  const double floor2 = options_.detection_sigma_floor * options_.detection_sigma_floor;
   for (const RobotDetection& d : detections_) {
     const std::string observer = Root(d.observer_id), observed = Root(d.observed_id);
     const bool across = (observer == root_a && observed == root_b) || (observer == root_b && observed == root_a);
     if (!across) continue;
-    const auto a = pose_in_a(d.observer_id, d.timestamp), b = pose_in_a(d.observed_id, d.timestamp);
+    const auto a = in_a(d.observer_id, d.timestamp), b = in_a(d.observed_id, d.timestamp);
     if (!a || !b) continue;
-    const Eigen::Vector2d error = a->inverse() * b->translation() - d.position_in_observer;
-    const Eigen::Matrix2d covariance = d.covariance + floor2 * Eigen::Matrix2d::Identity();
-    const double m = std::sqrt(error.dot(covariance.inverse() * error));
-    ++(m <= options_.detection_gate ? votes.agreeing : votes.contradicting);
+    ++(DetectionDistance(d, *a, *b) <= options_.detection_gate ? votes.agreeing : votes.contradicting);
   }
   return votes;
 }

@@ -19,12 +19,10 @@ double MaxSigma(const Eigen::Matrix2d& covariance) {
 }  // namespace
 
 std::optional<MergeEngine::SeenPositions> MergeEngine::PositionsAt(const RobotDetection& d) const {
-  const auto a = PoseAtTime(d.observer_id, d.timestamp);
-  const auto b = PoseAtTime(d.observed_id, d.timestamp);
-  if (!a || !b) return std::nullopt;
-  const Rigid2d a_robot = *graph_.NodePose({d.observer_id, a->host_submap}) * a->robot_in_node;
-  const Rigid2d b_robot = *graph_.NodePose({d.observed_id, b->host_submap}) * b->robot_in_node;
-  return SeenPositions{a_robot * d.position_in_observer, b_robot.translation()};
+  const auto a_robot = RobotInComponent(d.observer_id, d.timestamp);
+  const auto b_robot = RobotInComponent(d.observed_id, d.timestamp);
+  if (!a_robot || !b_robot) return std::nullopt;
+  return SeenPositions{*a_robot * d.position_in_observer, b_robot->translation()};
 }
 
 std::optional<MergeEngine::HeadingPrior> MergeEngine::HeadingFromMotion(size_t index) const {

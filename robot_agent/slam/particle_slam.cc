@@ -151,9 +151,7 @@ bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
 }
 
 void ParticleSlam::AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points) {
-  const float horizon = std::min(options_.max_range,
-                                 limited.range_max > 0.0f ? limited.range_max : options_.max_range);
-  keyframe_views_.push_back({limited.sensor_in_robot.translation(), horizon});
+  keyframe_views_.push_back({limited.sensor_in_robot.translation(), Horizon(limited, options_.max_range)});
   submaps_.AddKeyframe(limited);
   tracker_.AddKeyframe(std::move(tracker_points));
   RefreshBestHistory();

@@ -83,12 +83,8 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
   return true;
 }
 
-float ScanMatchingSlam::Horizon(const LaserScan& scan) const {
-  return std::min(options_.max_range, scan.range_max > 0.0f ? scan.range_max : options_.max_range);
-}
-
 std::vector<Eigen::Vector2f> ScanMatchingSlam::NoReturnEnds(const LaserScan& scan) const {
-  const float horizon = Horizon(scan);
+  const float horizon = Horizon(scan, options_.max_range);
   std::vector<Eigen::Vector2f> ends;
   for (int i = 0; i < scan.size(); ++i) {
     if (scan.IsReturn(i) && scan.ranges[static_cast<size_t>(i)] <= horizon) continue;
@@ -99,7 +95,7 @@ std::vector<Eigen::Vector2f> ScanMatchingSlam::NoReturnEnds(const LaserScan& sca
 }
 
 std::vector<Eigen::Vector2f> ScanMatchingSlam::PointsInsideHorizon(const LaserScan& scan) const {
-  const float horizon = Horizon(scan);
+  const float horizon = Horizon(scan, options_.max_range);
   LaserScan inside = scan;
   const float limit = horizon - options_.match_range_margin;
   for (float& range : inside.ranges) {

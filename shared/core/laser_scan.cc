@@ -1,5 +1,7 @@
 #include "shared/core/laser_scan.h"
 
+#include <algorithm>
+
 #include <cmath>
 
 namespace fleetmap {
@@ -49,6 +51,10 @@ std::vector<Eigen::Vector2f> ToPointsInRobotFrame(const LaserScan& scan) {
   std::vector<Eigen::Vector2f> points = ToPointsInSensorFrame(scan);
   for (Eigen::Vector2f& p : points) p = scan.sensor_in_robot * p;
   return points;
+}
+
+float Horizon(const LaserScan& scan, float max_range) {
+  return scan.range_max > 0.0f ? std::min(max_range, scan.range_max) : max_range;
 }
 
 }  // namespace fleetmap

@@ -38,6 +38,10 @@ LaserScan MakeLaserScan(double timestamp, float angle_min, float angle_increment
                         float range_max, const std::vector<float>& raw_ranges,
                         const Rigid2d& sensor_in_robot = Rigid2d());
 
+// How far the scan can see when its user also caps ranges at `max_range`: the smaller of the
+// two (range_max unset, <= 0, counts as no limit of its own).
+float Horizon(const LaserScan& scan, float max_range);
+
 // End points of the real returns, in the sensor frame.
 std::vector<Eigen::Vector2f> ToPointsInSensorFrame(const LaserScan& scan);
 // End points of the real returns, in the robot frame (applies `scan.sensor_in_robot`).

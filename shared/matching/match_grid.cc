@@ -253,9 +253,9 @@ void MatchGrid::Stamp(const SurfaceElement& element) {
   if (seen) return;
   seen = 1;
   ++obstacle_count_;
-  // The segment's ends, in grid units; cells within max_distance of it are updated. The grid's
-  // margin is max_distance around the centres, and an element reaches at most a few cells, so
-  // the box is clipped to the grid.
+  // The segment's ends, in grid units; cells within max_distance of it are updated. AddBatch
+  // grew the grid to hold every element (wall pieces reach at most max_extent past their point,
+  // joined segments lie between two points of the batch); the box is clipped all the same.
   const Eigen::Vector2d centre(gx, gy);
   const Eigen::Vector2d tangent = element.tangent;
   const double reach_minus = element.extent_minus / r, reach_plus = element.extent_plus / r;

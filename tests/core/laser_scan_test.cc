@@ -40,6 +40,15 @@ TEST(LaserScanTest, PointsInSensorAndRobotFrames) {
   EXPECT_NEAR(robot[1].y(), -2.0f, 1e-6f);
 }
 
+TEST(LaserScanTest, HorizonIsTheNearerOfTheSensorsLimitAndTheCap) {
+  LaserScan scan;
+  scan.range_max = 8.0f;
+  EXPECT_FLOAT_EQ(Horizon(scan, 20.0f), 8.0f);
+  EXPECT_FLOAT_EQ(Horizon(scan, 5.0f), 5.0f);
+  scan.range_max = 0.0f;  // unset
+  EXPECT_FLOAT_EQ(Horizon(scan, 20.0f), 20.0f);
+}
+
 TEST(LaserScanTest, SimulatedScanHitsBoxWalls) {
   const auto world = testing::BoxWorld({-2.0, -1.0}, {3.0, 1.0});
   const LaserScan scan = testing::SimulateScan(world, Rigid2d(0, 0, 0));

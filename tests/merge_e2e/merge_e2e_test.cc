@@ -188,47 +188,47 @@ class MergeE2eTest : public ::testing::Test {
 
   // Server + one agent per robot at full speed; every robot placed and the merge within bounds.
   void RunAndCheck() {
-  ASSERT_TRUE(StartServer()) << Logs();
-  std::vector<std::unique_ptr<E2eProcess>> agents;
-  for (const char* robot : kRobots) agents.push_back(StartAgent(robot, "max"));
-  for (auto& agent : agents) {
-    const auto code = agent->Wait(60.0);
-    ASSERT_TRUE(code.has_value()) << "agent did not finish\n" << Logs();
-    EXPECT_EQ(*code, 0) << Logs();
-  }
-  v1::GetRobotsResponse robots;
-  ASSERT_TRUE(WaitAllPlaced(30.0, &robots)) << robots.DebugString() << Logs();
-  CheckMerge(robots);
-  server_->Signal(SIGTERM);
-  EXPECT_EQ(server_->Wait(20.0), std::optional<int>(0)) << Logs();
+    ASSERT_TRUE(StartServer()) << Logs();
+    std::vector<std::unique_ptr<E2eProcess>> agents;
+    for (const char* robot : kRobots) agents.push_back(StartAgent(robot, "max"));
+    for (auto& agent : agents) {
+      const auto code = agent->Wait(60.0);
+      ASSERT_TRUE(code.has_value()) << "agent did not finish\n" << Logs();
+      EXPECT_EQ(*code, 0) << Logs();
+    }
+    v1::GetRobotsResponse robots;
+    ASSERT_TRUE(WaitAllPlaced(30.0, &robots)) << robots.DebugString() << Logs();
+    CheckMerge(robots);
+    server_->Signal(SIGTERM);
+    EXPECT_EQ(server_->Wait(20.0), std::optional<int>(0)) << Logs();
   }
 
   // The same, paced, with the server SIGKILLed while the robots drive and restarted on the same
   // port and database: nothing is lost and the merge still holds.
   void RunWithServerRestartAndCheck() {
-  ASSERT_TRUE(StartServer()) << Logs();
-  std::vector<std::unique_ptr<E2eProcess>> agents;
-  // Paced, so the server dies while the robots are still driving.
-  for (const char* robot : kRobots) agents.push_back(StartAgent(robot, "4"));
-  std::this_thread::sleep_for(std::chrono::seconds(4));
-  server_->Signal(SIGKILL);
-  ASSERT_EQ(server_->Wait(10.0), std::optional<int>(128 + SIGKILL));
-  std::this_thread::sleep_for(std::chrono::seconds(1));
-  ASSERT_TRUE(StartServer()) << Logs();
-  for (auto& agent : agents) {
-    const auto code = agent->Wait(60.0);
-    ASSERT_TRUE(code.has_value()) << "agent did not finish\n" << Logs();
-    EXPECT_EQ(*code, 0) << Logs();
-  }
-  v1::GetRobotsResponse robots;
-  ASSERT_TRUE(WaitAllPlaced(30.0, &robots)) << robots.DebugString() << Logs();
-  // Nothing lost: every submap the agents produced is stored (their outboxes drained).
-  int64_t submaps = 0;
-  for (const auto& r : robots.robots()) submaps += r.submap_count();
-  EXPECT_GE(submaps, 6);
-  CheckMerge(robots);
-  server_->Signal(SIGTERM);
-  EXPECT_EQ(server_->Wait(20.0), std::optional<int>(0)) << Logs();
+    ASSERT_TRUE(StartServer()) << Logs();
+    std::vector<std::unique_ptr<E2eProcess>> agents;
+    // Paced, so the server dies while the robots are still driving.
+    for (const char* robot : kRobots) agents.push_back(StartAgent(robot, "4"));
+    std::this_thread::sleep_for(std::chrono::seconds(4));
+    server_->Signal(SIGKILL);
+    ASSERT_EQ(server_->Wait(10.0), std::optional<int>(128 + SIGKILL));
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    ASSERT_TRUE(StartServer()) << Logs();
+    for (auto& agent : agents) {
+      const auto code = agent->Wait(60.0);
+      ASSERT_TRUE(code.has_value()) << "agent did not finish\n" << Logs();
+      EXPECT_EQ(*code, 0) << Logs();
+    }
+    v1::GetRobotsResponse robots;
+    ASSERT_TRUE(WaitAllPlaced(30.0, &robots)) << robots.DebugString() << Logs();
+    // Nothing lost: every submap the agents produced is stored (their outboxes drained).
+    int64_t submaps = 0;
+    for (const auto& r : robots.robots()) submaps += r.submap_count();
+    EXPECT_GE(submaps, 6);
+    CheckMerge(robots);
+    server_->Signal(SIGTERM);
+    EXPECT_EQ(server_->Wait(20.0), std::optional<int>(0)) << Logs();
   }
 
   std::string dir_, build_, server_binary_, agent_binary_;
