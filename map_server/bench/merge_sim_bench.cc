@@ -25,6 +25,7 @@ struct BenchOptions {
   double detection_period = 1.0;   // one detection per ordered pair per this many seconds
   double detection_sigma = 0.05;   // metres, noise of the synthetic detections
   double outlier_fraction = 0.0;   // detections moved by 1-5 m in a random direction
+  double detections_after = 0.0;   // sim seconds: no detections before (the camera starts late)
   double false_translation = 0.5;  // a placed pair further off than this is a false merge
   double false_rotation = 0.087;
   bool verbose = false;
@@ -179,7 +180,10 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
     }
     if (options.detections) {
       for (const sim::VisibilityRecord& v : step.visibility) {
-        if (!v.visible || !local_in_world[v.observer] || !local_in_world[v.observed]) continue;
+        if (!v.visible || !local_in_world[v.observer] || !local_in_world[v.observed] ||
+            step.timestamp < options.detections_after) {
+          continue;
+        }
         double& last = last_detection[{v.observer, v.observed}];
         if (last > 0.0 && step.timestamp - last < options.detection_period) continue;
         last = step.timestamp;
@@ -318,6 +322,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--outliers", options.outlier_fraction,
                  "fraction of detections corrupted (moved by 1-5 m in a random direction)")
+      ->capture_default_str();
+  app.add_option("--detections-after", options.detections_after,
+                 "sim seconds before which no detection is sent (matching may merge first)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (without_only) both = false;

@@ -46,6 +46,7 @@ const char* AlignmentEventTypeName(AlignmentEventType type) {
     case AlignmentEventType::kRejected: return "rejected";
     case AlignmentEventType::kConstraintAdded: return "constraint added";
     case AlignmentEventType::kPending: return "pending";
+    case AlignmentEventType::kWithdrawn: return "alignment withdrawn";
   }
   return "unknown";
 }
@@ -204,6 +205,7 @@ void MergeEngine::JoinComponents(const std::string& root_a, const std::string& r
     }
     root_[member] = keep;
     RobotState& state = *robots_.at(member);
+    state.joined_at = ++joins_;
     if (state.fixed_node) {
       graph_.SetFixed(*state.fixed_node, false);
       state.fixed_node.reset();
@@ -305,6 +307,7 @@ MergeUpdate MergeEngine::Update() {
   SyncNodes(&update);
   RefreshCanvases(&update);
   ProcessDetections(&update);
+  if (ReviewJoins(&update)) ProcessDetections(&update);  // the withdrawn robot's, again
   ProcessCrossMatches(&update);
   ProcessLocalConstraints(&update);
   ProcessLoopClosures(&update);

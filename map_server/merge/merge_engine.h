@@ -61,6 +61,12 @@ struct MergeEngineOptions {
   // already received between the two parts contradict it (beyond detection_gate), and more
   // contradict than agree.
   int min_contradicting_detections = 2;
+  // An accepted alignment is withdrawn (the robot split off its component, to be placed again
+  // by evidence that agrees) when at least this many detections between it and the rest of its
+  // component contradict the joined map, and more contradict than agree. Matching can join a
+  // robot before any detection of it arrives (a nearly symmetric building turned round); the
+  // detections that come later must be able to undo that. 0 turns this off.
+  int min_withdrawing_detections = 3;
   double detection_sigma_floor = 0.1;
 
   // Work bounds per Update(): global searches are the expensive part.
@@ -149,6 +155,10 @@ class MergeEngine {
     Eigen::Vector2d in_observer_frame;  // the detected position, in the observer's component
     Eigen::Vector2d in_observed_frame;  // the seen robot's own position, in its component
   };
+  struct DetectionVotes {
+    int agreeing = 0;
+    int contradicting = 0;
+  };
   struct HeadingPrior {
     double heading;  // the seen robot's component frame in the observer's, radians
     double sigma;
@@ -170,6 +180,13 @@ class MergeEngine {
   void ProcessDetection(size_t index, MergeUpdate* update, bool* keep_pending);
   void ProcessCrossMatches(MergeUpdate* update);
   void ProcessLocalConstraints(MergeUpdate* update);
+  // merge_engine_withdraw.cc
+  // Splits off the robot that the most detections contradict, when the gates say so; true if any.
+  bool ReviewJoins(MergeUpdate* update);
+  void Withdraw(const std::string& robot, const DetectionVotes& votes, MergeUpdate* update);
+  // Detections between the robot and the other members of its component, judged at the
+  // current poses.
+  DetectionVotes VotesWithin(const std::string& robot) const;
   // merge_engine_motion.cc
   std::optional<SeenPositions> PositionsAt(const RobotDetection& detection) const;
   std::optional<HeadingPrior> HeadingFromMotion(size_t detection_index) const;
@@ -186,10 +203,6 @@ class MergeEngine {
                                              const Box2d& box) const;
   Rigid2d FrameTransform(const Hypothesis& hypothesis) const;
   bool Agree(const Hypothesis& a, const Hypothesis& b) const;
-  struct DetectionVotes {
-    int agreeing = 0;
-    int contradicting = 0;
-  };
   // The stored detections between h's two parts, judged at h's alignment.
   DetectionVotes DetectionsAbout(const Hypothesis& h) const;
   // A robot's pose at `time` in its component's frame; empty without a pose then.
@@ -214,6 +227,8 @@ class MergeEngine {
   std::vector<size_t> pending_detections_;
   std::set<size_t> pending_reported_;
   std::vector<Hypothesis> hypotheses_;
+  int64_t joins_ = 0;
+  bool review_joins_ = false;  // a detection contradicted its robots' joined map
   std::map<std::string, CachedTarget> targets_;
 };
 

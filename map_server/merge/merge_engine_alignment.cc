@@ -248,6 +248,7 @@ void MergeEngine::ProcessDetection(size_t index, MergeUpdate* update, bool* keep
     } else {
       event.type = AlignmentEventType::kRejected;
       event.reason = "inconsistent with the accepted alignment: " + os.str();
+      review_joins_ = true;
     }
     update->events.push_back(event);
     return;

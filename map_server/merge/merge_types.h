@@ -19,6 +19,7 @@ enum class AlignmentEventType {
   kRejected,           // evidence that failed a gate (the reason says which)
   kConstraintAdded,    // a detection or match added to the graph between joined robots
   kPending,            // a detection waiting for trajectories/submaps covering its time
+  kWithdrawn,          // an accepted alignment undone: later detections contradict it (robot_b split off)
 };
 const char* AlignmentEventTypeName(AlignmentEventType type);
 

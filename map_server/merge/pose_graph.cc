@@ -1,5 +1,6 @@
 #include "map_server/merge/pose_graph.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -88,6 +89,20 @@ void PoseGraph::RemoveRobot(const std::string& robot) {
   for (auto it = nodes_.begin(); it != nodes_.end();) {
     it = it->first.robot == robot ? nodes_.erase(it) : std::next(it);
   }
+}
+
+size_t PoseGraph::DetachRobot(const std::string& robot) {
+  const size_t before = edges_.size() + detections_.size();
+  const auto across = [&](const NodeId& a, const NodeId& b) {
+    return a.robot != b.robot && (a.robot == robot || b.robot == robot);
+  };
+  edges_.erase(std::remove_if(edges_.begin(), edges_.end(),
+                              [&](const RelativeEdge& e) { return across(e.from, e.to); }),
+               edges_.end());
+  detections_.erase(std::remove_if(detections_.begin(), detections_.end(),
+                                   [&](const DetectionEdge& e) { return across(e.observer, e.observed); }),
+                    detections_.end());
+  return before - edges_.size() - detections_.size();
 }
 
 size_t PoseGraph::AddEdge(const RelativeEdge& edge) {

@@ -85,6 +85,9 @@ class PoseGraph {
   std::optional<Rigid2d> NodePose(const NodeId& id) const;
   const std::map<NodeId, Rigid2d>& nodes() const { return nodes_; }
   void RemoveRobot(const std::string& robot);
+  // Removes every edge (relative or detection) between the robot's nodes and another robot's,
+  // keeping its own; indices of the remaining edges shift. Returns how many were removed.
+  size_t DetachRobot(const std::string& robot);
 
   // Returns the edge's index. Edges with a missing node are ignored when solving.
   size_t AddEdge(const RelativeEdge& edge);

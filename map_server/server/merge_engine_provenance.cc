@@ -26,6 +26,7 @@ const char* TypeKey(AlignmentEventType type) {
     case AlignmentEventType::kRejected: return "rejected";
     case AlignmentEventType::kConstraintAdded: return "constraint";
     case AlignmentEventType::kPending: return "pending";
+    case AlignmentEventType::kWithdrawn: return "withdrawn";
   }
   return "unknown";
 }
@@ -56,6 +57,13 @@ void NoteEvents(const std::vector<AlignmentEvent>& events,
           break;
         case AlignmentEventType::kHypothesis: s.hypothesis_note = Describe(e); break;
         case AlignmentEventType::kRejected: s.rejection_note = Describe(e); break;
+        case AlignmentEventType::kWithdrawn:
+          if (*robot == e.robot_b) {  // the robot split off is unplaced until evidence agrees again
+            s.accepted_source.clear();
+            s.accepted_note.clear();
+            s.rejection_note = Describe(e);
+          }
+          break;
         default: break;
       }
     }
@@ -106,9 +114,12 @@ void AddEngineProvenance(const std::vector<AlignmentEvent>& events, const MergeQ
                          VersionRecord* info) {
   std::map<std::string, double>& q = info->quality;
   int index = 0;
-  std::string accepted;
+  std::string accepted, withdrawn;
   for (const AlignmentEvent& e : events) {
     q[std::string("events_") + TypeKey(e.type)] += 1.0;
+    if (e.type == AlignmentEventType::kWithdrawn) {
+      withdrawn += (withdrawn.empty() ? "" : "; ") + e.robot_b + " split from " + e.robot_a + " (" + e.reason + ")";
+    }
     if (e.type == AlignmentEventType::kRejected) {
       double& best = q["rejected_best_score"];
       best = std::max(best, e.score);
@@ -142,7 +153,10 @@ void AddEngineProvenance(const std::vector<AlignmentEvent>& events, const MergeQ
   q["overlapping_cells"] = static_cast<double>(quality.overlapping_cells);
   q["disagreeing_cells"] = static_cast<double>(quality.disagreeing_cells);
   q["disagreement_fraction"] = quality.disagreement_fraction();
-  if (!accepted.empty()) info->trigger = "alignment accepted: " + accepted;
+  if (!withdrawn.empty()) info->trigger = "alignment withdrawn: " + withdrawn;
+  if (!accepted.empty()) {
+    info->trigger = (withdrawn.empty() ? "" : info->trigger + "; ") + "alignment accepted: " + accepted;
+  }
 }
 
 }  // namespace fleetmap

@@ -193,6 +193,12 @@ void MergeEngineWorker::RunEngine() {
   MergeUpdate update = engine_->Update();
   const std::set<std::string> placed_before = PlacedSet(Placements());
   NoteEvents(update.events, &status_);
+  for (const AlignmentEvent& e : update.events) {
+    // Joins and their undoing change what the map shows: worth a line in the server's log.
+    if (e.type != AlignmentEventType::kAlignmentAccepted && e.type != AlignmentEventType::kWithdrawn) continue;
+    std::cerr << "fleetmap-server: " << AlignmentEventTypeName(e.type) << " (" << EvidenceName(e.evidence)
+              << "): " << e.robot_b << " with " << e.robot_a << "; " << e.reason.substr(0, 300) << "\n";
+  }
   RefreshPlacements();
   const bool placements_changed = PlacedSet(Placements()) != placed_before;
   const bool has_news = std::any_of(update.events.begin(), update.events.end(), [](const auto& e) {

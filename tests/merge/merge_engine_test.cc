@@ -156,17 +156,23 @@ TEST(MergeEngineTest, DetectionsOfAStandingRobotInACorridorDoNotMerge) {
   EXPECT_FALSE(engine.RobotToGlobal("b"));
 }
 
+// In the corridor, a drives 10 m and waits; b comes 12 m towards it from the far end.
+std::pair<SimRobot, SimRobot> FeedCorridorApproach(MergeEngine* engine) {
+  const testing::SegmentWorld world = testing::CorridorWorld();
+  SimRobot a{"a", testing::PathThrough({{2, 1}, {12, 1}}, 0.25), Rigid2d(2, 1, 0.0)};
+  const SimRobot b{"b", testing::PathThrough({{28, 1}, {16, 1}}, 0.25), Rigid2d(28, 1, 0.7)};
+  while (a.path.size() < b.path.size()) a.path.push_back(a.path.back());
+  Feed(world, a, engine);
+  Feed(world, b, engine);
+  return {a, b};
+}
+
 // The same corridor with the seen robot driving: its map turned end for end still fits better
 // (more of it lands on the observer's map), but where it moved, seen from the observer, against
 // where it moved in its own map gives the heading; searched around that, the detections align it.
 TEST(MergeEngineTest, DetectionsOfADrivingRobotInACorridorAlignItByItsMotion) {
-  const testing::SegmentWorld world = testing::CorridorWorld();
   MergeEngine engine(TestOptions());
-  SimRobot a{"a", testing::PathThrough({{2, 1}, {12, 1}}, 0.25), Rigid2d(2, 1, 0.0)};
-  const SimRobot b{"b", testing::PathThrough({{28, 1}, {16, 1}}, 0.25), Rigid2d(28, 1, 0.7)};
-  while (a.path.size() < b.path.size()) a.path.push_back(a.path.back());
-  Feed(world, a, &engine);
-  Feed(world, b, &engine);
+  const auto [a, b] = FeedCorridorApproach(&engine);
   const size_t last = b.path.size() - 1;
   for (size_t step : {last - 12, last - 8, last - 4, last}) {
     ASSERT_TRUE(engine.AddDetection(Detect(a, b, step, false)));
@@ -256,6 +262,63 @@ TEST(MergeEngineTest, DetectionsThatContradictAMatchOverruleIt) {
   }
   EXPECT_TRUE(overruled);
   EXPECT_FALSE(EstimatedRelative(engine, "a", "b").has_value());
+}
+
+// A join that later detections contradict is withdrawn, and those detections place the robot
+// again. Three consistent but wrong detections (b reported 1.5 m nearer along a featureless
+// corridor, e.g. a mis-ranged marker) join b there, as matching can join a robot turned round
+// before any detection of it arrives. Five correct ones follow: each alone is an outlier of the
+// joined map, together they outvote the three, b is split off, and judged again they align it.
+TEST(MergeEngineTest, AJoinThatLaterDetectionsContradictIsWithdrawnAndRedone) {
+  MergeEngine engine(TestOptions());
+  const auto [a, b] = FeedCorridorApproach(&engine);
+  const size_t last = b.path.size() - 1;
+  for (size_t step : {last - 22, last - 18, last - 14}) {
+    RobotDetection d = Detect(a, b, step, false);
+    d.position_in_observer -= Eigen::Vector2d(1.5, 0.0);
+    ASSERT_TRUE(engine.AddDetection(d));
+  }
+  MergeUpdate update = engine.Update();
+  ASSERT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 1);
+  auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  ASSERT_GT((TrueRelative(a, b).inverse() * *rel).translation().norm(), 1.0);  // the wrong join
+
+  for (size_t step : {last - 8, last - 6, last - 4, last - 2, last}) ASSERT_TRUE(engine.AddDetection(Detect(a, b, step, false)));
+  update = engine.Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kWithdrawn), 1);
+  EXPECT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 1);
+  rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.25, 0.5 * M_PI / 180));
+  // The three wrong detections are outliers of the new alignment, and stay so.
+  update = engine.Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kWithdrawn), 0);
+}
+
+// Detections that contradict a join but agree with no other alignment either (b reported 3 m
+// off in a room-structured office) unplace b, and it stays unplaced: a wrong map is worse than
+// a missing robot. The reference robot keeps the global frame.
+TEST(MergeEngineTest, AJoinContradictedByDetectionsLeavesTheRobotUnplaced) {
+  const SimRobot a = RobotA(), b = RobotB(-2.4);
+  auto engine_owner = OverlappingRobotsWithSearches(a, b);
+  MergeEngine& engine = *engine_owner;
+  engine.Update();
+  ASSERT_TRUE(EstimatedRelative(engine, "a", "b"));
+  const Rigid2d a_before = *engine.RobotToGlobal("a");
+  for (size_t step : {10u, 20u, 30u, 40u}) {
+    RobotDetection d = Detect(a, b, step, false);
+    d.position_in_observer += Eigen::Vector2d(3.0, 0.0);
+    ASSERT_TRUE(engine.AddDetection(d));
+  }
+  MergeUpdate update = engine.Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kWithdrawn), 1);
+  EXPECT_TRUE(update.changed_region.has_value());
+  while (engine.HasPendingWork()) engine.Update();
+  EXPECT_FALSE(engine.RobotToGlobal("b"));
+  ASSERT_TRUE(engine.RobotToGlobal("a"));
+  EXPECT_THAT(*engine.RobotToGlobal("a"), IsNearPose(a_before, 0.02, 0.002));  // a relaxes a little without b
+  EXPECT_EQ(engine.PlacedRobots(), std::vector<std::string>{"a"});
 }
 
 // A single detection that no other submap can confirm stays a hypothesis; a second, independent

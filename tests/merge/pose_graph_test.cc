@@ -36,6 +36,34 @@ TEST(PoseGraphTest, EqualWeightsAverage) {
   EXPECT_THAT(*graph.NodePose(a), IsNearPose(Rigid2d(), 1e-9, 1e-9));
 }
 
+// Detaching a robot removes exactly its links to other robots (edges and detections), and keeps
+// its own chain and the links among the others.
+TEST(PoseGraphTest, DetachRobotRemovesOnlyItsLinksToOthers) {
+  PoseGraph graph;
+  const NodeId a0{"a", 0}, a1{"a", 1}, b0{"b", 0}, b1{"b", 1}, c0{"c", 0};
+  for (const NodeId& n : {a0, a1, b0, b1, c0}) graph.SetNode(n, Rigid2d());
+  graph.AddEdge(Edge(a0, a1, Rigid2d(1, 0, 0), 0.1, 0.01));
+  graph.AddEdge(Edge(b0, b1, Rigid2d(1, 0, 0), 0.1, 0.01));
+  graph.AddEdge(Edge(a1, b0, Rigid2d(1, 0, 0), 0.1, 0.01));
+  graph.AddEdge(Edge(c0, a0, Rigid2d(1, 0, 0), 0.1, 0.01));
+  graph.AddEdge(Edge(b1, c0, Rigid2d(1, 0, 0), 0.1, 0.01));
+  DetectionEdge seen;
+  seen.observer = c0;
+  seen.observed = b1;
+  graph.AddDetection(seen);
+  seen.observer = a0;
+  seen.observed = c0;
+  graph.AddDetection(seen);
+  EXPECT_EQ(graph.DetachRobot("b"), 3u);
+  ASSERT_EQ(graph.edges().size(), 3u);
+  EXPECT_TRUE(graph.edges()[0].from == a0 && graph.edges()[0].to == a1);
+  EXPECT_TRUE(graph.edges()[1].from == b0 && graph.edges()[1].to == b1);
+  EXPECT_TRUE(graph.edges()[2].from == c0 && graph.edges()[2].to == a0);
+  ASSERT_EQ(graph.detections().size(), 1u);
+  EXPECT_TRUE(graph.detections()[0].observer == a0);
+  EXPECT_EQ(graph.nodes().size(), 5u);
+}
+
 // A square loop of consistent edges plus one grossly wrong loop closure with a robust loss:
 // the optimum stays at the true square.
 TEST(PoseGraphTest, RobustLossIgnoresOutlierEdge) {

@@ -20,6 +20,7 @@ struct MergeEngine::RobotState {
   std::map<int64_t, Submap> submaps;
   Trajectory trajectory;
   std::optional<NodeId> fixed_node;           // set while this robot roots its component
+  int64_t joined_at = 0;                      // when it last joined another component (0: never)
   std::map<int64_t, size_t> odometry_edge;    // by the later submap of the pair
   // The robot's submaps rendered at their graph poses (the frame of its component).
   LogOddsCanvas canvas;

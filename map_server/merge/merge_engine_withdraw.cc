@@ -1,0 +1,163 @@
+// MergeEngine: undoing an accepted alignment that later detections contradict.
+//
+// Matching can join a robot before any detection of it reaches the server: in a nearly
+// symmetric building its map turned round fits as well, and a second matched submap agrees with
+// the turned map too. Once joined, each contradicting detection alone is an outlier; many of
+// them, and more than agree, mean the join is wrong. The robot is split off (its links to the
+// rest removed from the graph) and its detections are judged again, now between two parts, where
+// they can place it where they say and veto the wrong match.
+
+#include <algorithm>
+#include <sstream>
+
+#include "map_server/merge/internal/merge_engine_state.h"
+#include "map_server/merge/merge_engine.h"
+
+namespace fleetmap {
+
+MergeEngine::DetectionVotes MergeEngine::VotesWithin(const std::string& robot) const {
+  DetectionVotes votes;
+  for (const RobotDetection& d : detections_) {
+    const bool observer = d.observer_id == robot, observed = d.observed_id == robot;
+    if (!observer && !observed) continue;
+    if (Root(observer ? d.observed_id : d.observer_id) != Root(robot)) continue;
+    const auto a = RobotInComponent(d.observer_id, d.timestamp);
+    const auto b = RobotInComponent(d.observed_id, d.timestamp);
+    if (!a || !b) continue;
+    ++(DetectionDistance(d, *a, *b) <= options_.detection_gate ? votes.agreeing : votes.contradicting);
+  }
+  return votes;
+}
+
+bool MergeEngine::ReviewJoins(MergeUpdate* update) {
+  const bool asked = review_joins_;
+  review_joins_ = false;
+  if (!asked || options_.min_withdrawing_detections <= 0) return false;
+  bool withdrew = false;
+  for (size_t round = 0; round < robots_.size(); ++round) {
+    // The robot most contradicted; on a tie the one joined last (a two-robot component's
+    // votes are the same for both members).
+    std::string worst;
+    DetectionVotes worst_votes;
+    for (const auto& [robot, state] : robots_) {
+      if (known_placements_.count(robot) || Members(Root(robot)).size() < 2) continue;
+      const DetectionVotes v = VotesWithin(robot);
+      if (v.contradicting < options_.min_withdrawing_detections || v.contradicting <= v.agreeing) continue;
+      const int margin = v.contradicting - v.agreeing;
+      const int worst_margin = worst_votes.contradicting - worst_votes.agreeing;
+      if (worst.empty() || margin > worst_margin ||
+          (margin == worst_margin && state->joined_at > robots_.at(worst)->joined_at)) {
+        worst = robot;
+        worst_votes = v;
+      }
+    }
+    if (worst.empty()) break;
+    Withdraw(worst, worst_votes, update);
+    withdrew = true;
+  }
+  return withdrew;
+}
+
+void MergeEngine::Withdraw(const std::string& robot, const DetectionVotes& votes, MergeUpdate* update) {
+  const std::string old_root = Root(robot);
+  const std::vector<std::string> members = Members(old_root);
+  RobotState& state = *robots_.at(robot);
+  if (IsPlaced(robot)) {
+    // The robot leaves the global map: where it was rendered must be drawn again.
+    for (const auto& [id, rendered] : state.rendered) {
+      const auto bounds = PlacedBounds(state.submaps.at(id).grid, rendered.pose);
+      if (!bounds) continue;
+      if (!update->changed_region) {
+        update->changed_region = bounds;
+      } else {
+        update->changed_region->min = update->changed_region->min.cwiseMin(bounds->min);
+        update->changed_region->max = update->changed_region->max.cwiseMax(bounds->max);
+      }
+    }
+    update->graph_changed = true;
+  }
+  graph_.DetachRobot(robot);
+  for (auto& [id, s] : robots_) s->odometry_edge.clear();
+  for (size_t i = 0; i < graph_.edges().size(); ++i) {
+    const RelativeEdge& e = graph_.edges()[i];
+    if (e.kind == EdgeKind::kOdometry) robots_.at(e.to.robot)->odometry_edge[e.to.submap] = i;
+  }
+
+  // The rest may have hung together only through the robot: regroup by the links left.
+  std::map<std::string, std::string> parent;
+  for (const std::string& m : members) parent[m] = m;
+  const auto find = [&](std::string m) {
+    while (parent.at(m) != m) m = parent.at(m);
+    return m;
+  };
+  const auto unite = [&](const std::string& a, const std::string& b) {
+    if (parent.count(a) && parent.count(b)) parent[find(a)] = find(b);
+  };
+  for (const RelativeEdge& e : graph_.edges()) unite(e.from.robot, e.to.robot);
+  for (const DetectionEdge& e : graph_.detections()) unite(e.observer.robot, e.observed.robot);
+  for (const auto& [known, placement] : known_placements_) unite(known, known_root_);
+  std::map<std::string, std::vector<std::string>> groups;
+  for (const std::string& m : members) groups[find(m)].push_back(m);
+  std::set<std::string> new_roots;
+  for (const auto& [key, group] : groups) {
+    // The old root keeps its part (and with it the global frame); any other part is framed by
+    // its member joined earliest.
+    std::string root = group.front();
+    for (const std::string& m : group) {
+      if (m == old_root) {
+        root = m;
+        break;
+      }
+      if (robots_.at(m)->joined_at < robots_.at(root)->joined_at) root = m;
+    }
+    for (const std::string& m : group) root_[m] = root;
+    new_roots.insert(root);
+    RobotState& r = *robots_.at(root);
+    if (!r.fixed_node) {
+      for (const auto& [id, submap] : r.submaps) {
+        if (!graph_.HasNode({root, id})) continue;
+        r.fixed_node = NodeId{root, id};
+        graph_.SetFixed(*r.fixed_node, true);
+        break;
+      }
+    }
+  }
+  graph_dirty_ = true;
+
+  // Search again what the old grouping had settled, and judge the detections again.
+  new_roots.insert(old_root);
+  for (auto& [id, s] : robots_) {
+    if (std::find(members.begin(), members.end(), id) != members.end()) {
+      s->cross_tried.clear();
+      continue;
+    }
+    for (auto& [submap, tried] : s->cross_tried) {
+      for (const std::string& r : new_roots) tried.erase(r);
+    }
+  }
+  const std::set<size_t> pending(pending_detections_.begin(), pending_detections_.end());
+  for (size_t i = 0; i < detections_.size(); ++i) {
+    const RobotDetection& d = detections_[i];
+    if ((d.observer_id == robot || d.observed_id == robot) && !pending.count(i)) pending_detections_.push_back(i);
+  }
+
+  AlignmentEvent event;
+  event.type = AlignmentEventType::kWithdrawn;
+  event.evidence = EvidenceKind::kDetection;
+  event.robot_a = old_root;
+  for (const std::string& m : members) {
+    if (old_root == robot && m != robot) {
+      event.robot_a = Root(m);
+      break;
+    }
+  }
+  event.robot_b = robot;
+  std::ostringstream os;
+  os << votes.contradicting << " detections between " << robot
+     << " and the robots it was joined with contradict the joined map (" << votes.agreeing
+     << " agree); split off until evidence agrees again";
+  event.reason = os.str();
+  update->events.push_back(event);
+}
+
+}  // namespace fleetmap
