@@ -29,6 +29,7 @@ struct BenchOptions {
   double false_translation = 0.5;  // a placed pair further off than this is a false merge
   double false_rotation = 0.087;
   bool verbose = false;
+  MergeEngineOptions engine;
 };
 
 struct RunResult {
@@ -112,7 +113,7 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
   std::normal_distribution<double> noise(0.0, options.detection_sigma);
   std::mt19937 outlier_rng(11);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  MergeEngine engine;
+  MergeEngine engine(options.engine);
   std::vector<double> update_ms, fold_ms;
   double next_feed = options.feed_period;
   std::vector<RobotDetection> pending_detections;
@@ -325,6 +326,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--detections-after", options.detections_after,
                  "sim seconds before which no detection is sent (matching may merge first)")
+      ->capture_default_str();
+  app.add_option("--odometry-sigma-per-metre", options.engine.odometry_translation_sigma_per_metre,
+                 "merge engine: translation sigma of consecutive-submap edges per metre between them")
+      ->capture_default_str();
+  app.add_option("--odometry-rotation-sigma-per-metre", options.engine.odometry_rotation_sigma_per_metre,
+                 "merge engine: rotation sigma (rad) of consecutive-submap edges per metre")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (without_only) both = false;

@@ -246,8 +246,10 @@ void MergeEngine::SyncNodes(MergeUpdate* update) {
         edge.from = {robot_id, *prev};
         edge.to = node;
         edge.to_in_from = robot->submaps.at(*prev).submap_in_local.inverse() * submap.submap_in_local;
-        edge.translation_sigma = options_.odometry_translation_sigma;
-        edge.rotation_sigma = options_.odometry_rotation_sigma;
+        const double length = edge.to_in_from.translation().norm();
+        edge.translation_sigma = options_.odometry_translation_sigma +
+                                 options_.odometry_translation_sigma_per_metre * length;
+        edge.rotation_sigma = options_.odometry_rotation_sigma + options_.odometry_rotation_sigma_per_metre * length;
         edge.kind = EdgeKind::kOdometry;
         const auto e = robot->odometry_edge.find(id);
         if (e == robot->odometry_edge.end()) {
