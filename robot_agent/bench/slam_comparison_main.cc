@@ -40,8 +40,7 @@ struct BenchScenario {
   Eigen::Vector2d real_size = Eigen::Vector2d::Zero();
 };
 
-std::unique_ptr<LocalSlam> MakeBackend(const std::string& algorithm) {
-  BackendChoice choice;
+std::unique_ptr<LocalSlam> MakeBackend(BackendChoice choice, const std::string& algorithm) {
   choice.algorithm = algorithm;
   std::string error;
   std::unique_ptr<LocalSlam> slam = MakeLocalSlam(choice, &error);
@@ -51,14 +50,14 @@ std::unique_ptr<LocalSlam> MakeBackend(const std::string& algorithm) {
 
 // Table I: the simulator scenarios. Returns false on an error.
 bool RunScenarios(const std::string& scenarios_dir, const std::vector<std::string>& names,
-                  const std::vector<std::string>& algorithms) {
+                  const std::vector<std::string>& algorithms, const BackendChoice& base) {
   std::printf("| scenario | backend | real L x H (m) | measured L x H (m) | L / H error | end-point error (m) | ATE RMSE (m, deg) | time (s) |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   for (const std::string& name : names) {
     BenchScenario scenario{name};
     if (name.rfind("rectangle", 0) == 0) scenario.real_size = Eigen::Vector2d(20.9, 16.6);
     for (const std::string& algorithm : algorithms) {
-      std::unique_ptr<LocalSlam> slam = MakeBackend(algorithm);
+      std::unique_ptr<LocalSlam> slam = MakeBackend(base, algorithm);
       if (!slam) return false;
       std::cerr << "running " << algorithm << " on scenario " << name << "\n";
       SimSlamRun run;
@@ -121,10 +120,17 @@ int Run(int argc, char** argv) {
   app.add_option("--scenarios", scenarios, "Simulator scenarios to run (none: --scenarios '')")
       ->capture_default_str();
   app.add_flag("--skip-logs", skip_logs, "Only run the simulator scenarios");
+  BackendChoice base;
+  app.add_option("--particles", base.particles, "Particle count (particle filter backends)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  app.add_option("--seed", base.seed, "Random seed (particle filter backends)")->capture_default_str();
+  app.add_flag("--scan-matched-motion", base.scan_matched_motion,
+               "Particle filter backends: scan-matched motion instead of raw odometry as the motion input");
   CLI11_PARSE(app, argc, argv);
   scenarios.erase(std::remove(scenarios.begin(), scenarios.end(), std::string()), scenarios.end());
   if (!scenarios.empty()) {
-    if (!RunScenarios(scenarios_dir, scenarios, algorithms)) return 1;
+    if (!RunScenarios(scenarios_dir, scenarios, algorithms, base)) return 1;
     std::printf("\n");
   }
   if (skip_logs) return 0;
@@ -153,13 +159,8 @@ int Run(int argc, char** argv) {
     }
     const double duration = log.scans.back().timestamp - log.scans.front().timestamp;
     for (const std::string& algorithm : algorithms) {
-      BackendChoice choice;
-      choice.algorithm = algorithm;
-      std::unique_ptr<LocalSlam> slam = MakeLocalSlam(choice, &error);
-      if (!slam) {
-        std::cerr << "error: " << error << "\n";
-        return 1;
-      }
+      std::unique_ptr<LocalSlam> slam = MakeBackend(base, algorithm);
+      if (!slam) return 1;
       std::cerr << "running " << algorithm << " on " << bench.name << " (" << log.scans.size() << " scans)\n";
       SlamRunResult result;
       if (!RunSlam(log, slam.get(), &result, &error)) {

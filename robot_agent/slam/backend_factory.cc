@@ -19,6 +19,7 @@ std::unique_ptr<LocalSlam> MakeLocalSlam(const BackendChoice& choice, std::strin
     options.robot_id = choice.robot_id;
     options.filter.particles = choice.particles;
     options.filter.seed = choice.seed;
+    options.scan_matched_motion = choice.scan_matched_motion;
     return std::make_unique<ParticleSlam>(options);
   }
   std::string known;

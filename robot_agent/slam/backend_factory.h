@@ -16,6 +16,9 @@ struct BackendChoice {
   std::string robot_id = "robot";
   int particles = 30;  // particle filters only
   unsigned seed = 1;   // particle filters only
+  // Particle filters only: the per-scan scan-matched motion instead of raw odometry as the
+  // filter's motion input (the paper's remedy for FastSLAM's particle depletion).
+  bool scan_matched_motion = false;
 };
 
 // The algorithm names MakeLocalSlam accepts.

@@ -190,5 +190,32 @@ TEST(RbpfSlamTest, FactoryKnowsBothParticleFilters) {
   }
 }
 
+// The tools' --scan-matched-motion reaches the filter: the factory's FastSLAM with it runs the
+// same as one configured by hand with ParticleSlamOptions::scan_matched_motion.
+TEST(RbpfSlamTest, FactoryPassesTheScanMatchedMotionChoice) {
+  const std::vector<Rigid2d> truth = LoopPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 3);
+  BackendChoice choice;
+  choice.algorithm = "fastslam";
+  choice.particles = 3;
+  choice.scan_matched_motion = true;
+  std::string error;
+  std::unique_ptr<LocalSlam> made = MakeLocalSlam(choice, &error);
+  ASSERT_NE(made, nullptr) << error;
+  ParticleSlamOptions options = ParticleSlamOptions::FastSlam();
+  options.robot_id = choice.robot_id;
+  options.filter.particles = 3;
+  options.filter.seed = choice.seed;
+  options.scan_matched_motion = true;
+  ParticleSlam by_hand(options);
+  options.scan_matched_motion = false;
+  ParticleSlam odometry_driven(options);
+  RunLoop(made.get(), truth, odometry);
+  RunLoop(&by_hand, truth, odometry);
+  RunLoop(&odometry_driven, truth, odometry);
+  EXPECT_THAT(made->CurrentPose(), IsNearPose(by_hand.CurrentPose(), 1e-12, 1e-12));
+  EXPECT_FALSE((made->CurrentPose().translation() - odometry_driven.CurrentPose().translation()).norm() < 1e-9);
+}
+
 }  // namespace
 }  // namespace fleetmap
