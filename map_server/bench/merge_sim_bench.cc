@@ -15,6 +15,7 @@
 #include "robot_agent/sim/scenario.h"
 #include "robot_agent/sim/simulation.h"
 #include "robot_agent/slam/backend_factory.h"
+#include "robot_agent/slam/seen_robot_mask.h"
 
 namespace fleetmap {
 namespace {
@@ -30,6 +31,7 @@ struct BenchOptions {
   double false_rotation = 0.087;
   bool verbose = false;
   MergeEngineOptions engine;
+  bool mask_seen_robots = true;  // with detections: returns off seen robots kept out of local SLAM
 };
 
 struct RunResult {
@@ -37,6 +39,7 @@ struct RunResult {
   int pairs = 0;
   int placed_pairs = 0;
   int false_merges = 0;
+  int64_t masked_returns = 0;  // laser returns off seen robots kept out of local SLAM
   // Submaps of different robots whose true anchors are within kNearSubmaps: their relative pose
   // in the merged graph against the truth (local consistency of the merge, without the drift
   // accumulated since the robots' starts).
@@ -164,18 +167,23 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
     // Postponed searches, as the server's worker runs them while idle.
     for (int i = 0; i < 1000 && engine.HasPendingWork(); ++i) engine.Update();
   };
+  // As in the agent: each robot masks the returns off robots its camera saw (every visible
+  // record, the camera's rate), whatever the upload period of the detections.
+  std::vector<SeenRobotMask> masks(n);
   while (!sim->Done()) {
     sim::StepResult step = sim->Step();
     for (sim::SensorPacket& packet : step.packets) {
-      LocalSlam& slam = *slams[static_cast<size_t>(packet.robot_index)];
+      const size_t i = static_cast<size_t>(packet.robot_index);
+      LocalSlam& slam = *slams[i];
       std::string why;
       if (packet.odometry) {
         slam.AddOdometry({packet.odometry->timestamp, packet.odometry->robot_pose}, &why);
+        masks[i].AddOdometry(packet.odometry->timestamp, packet.odometry->robot_pose);
       }
       if (packet.laser) {
-        const size_t i = static_cast<size_t>(packet.robot_index);
         if (!local_in_world[i]) local_in_world[i] = packet.ground_truth;
         truth_at_scan[i][packet.laser->scan.timestamp] = packet.ground_truth;
+        if (options.detections && options.mask_seen_robots) result->masked_returns += masks[i].Apply(&packet.laser->scan);
         slam.AddScan(packet.laser->scan, &why);
       }
     }
@@ -185,6 +193,12 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
             step.timestamp < options.detections_after) {
           continue;
         }
+        RobotDetection seen;
+        seen.observer_id = infos[v.observer].name;
+        seen.observed_id = infos[v.observed].name;
+        seen.timestamp = step.timestamp;
+        seen.position_in_observer = v.relative.translation();
+        masks[v.observer].AddDetection(seen);
         double& last = last_detection[{v.observer, v.observed}];
         if (last > 0.0 && step.timestamp - last < options.detection_period) continue;
         last = step.timestamp;
@@ -324,6 +338,8 @@ int main(int argc, char** argv) {
   app.add_option("--outliers", options.outlier_fraction,
                  "fraction of detections corrupted (moved by 1-5 m in a random direction)")
       ->capture_default_str();
+  app.add_flag("--no-mask", [&](int64_t) { options.mask_seen_robots = false; },
+               "with detections: do not mask the returns off seen robots before local SLAM");
   app.add_option("--detections-after", options.detections_after,
                  "sim seconds before which no detection is sent (matching may merge first)")
       ->capture_default_str();
@@ -364,11 +380,11 @@ int main(int argc, char** argv) {
       std::printf(
           "  merged pairs %d/%d, false merges %d, max error %.3f m / %.3f deg, map within 1 "
           "cell of a wall %.2f %%, submaps %d, Update() median %.1f ms (max %.1f), per new "
-          "submap median %.1f ms, sim %.0f s, wall %.0f s\n",
+          "submap median %.1f ms, sim %.0f s, wall %.0f s, masked returns %lld\n",
           result.placed_pairs, result.pairs, result.false_merges, result.max_translation,
           result.max_rotation * 180.0 / M_PI, 100.0 * result.map_accuracy, result.submaps,
           result.median_update_ms, result.max_update_ms, result.median_fold_ms,
-          result.sim_seconds, wall);
+          result.sim_seconds, wall, static_cast<long long>(result.masked_returns));
       std::fflush(stdout);
       false_merges += result.false_merges;
     }

@@ -106,7 +106,8 @@ std::string Agent::StatusLine() const {
        << " pending=" << counts.pending_trajectories
        << " | detections queued=" << counters.detections_queued
        << " sent=" << stats.acked_detections
-       << " pending=" << counts.pending_detections << " | rejected=" << counts.rejected
+       << " pending=" << counts.pending_detections << " masked returns=" << counters.masked_returns
+       << " | rejected=" << counts.rejected
        << " duplicates=" << stats.duplicates << " | server " << ConnectionStateName(stats.state);
   if (stats.state == ConnectionState::kDisconnected && !stats.last_error.empty()) {
     line << " (" << stats.last_error << ")";

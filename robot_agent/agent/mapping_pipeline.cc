@@ -15,7 +15,8 @@ MappingPipeline::MappingPipeline(const MappingPipelineOptions& options,
       slam_(std::move(slam)),
       outbox_(outbox),
       now_(std::move(now)),
-      on_queued_(std::move(on_queued)) {}
+      on_queued_(std::move(on_queued)),
+      mask_(options.mask) {}
 
 int64_t MappingPipeline::TrajectoryRevision(int64_t backend_revision, size_t poses) {
   return (backend_revision << 32) + static_cast<int64_t>(poses & 0xffffffffu);
@@ -53,6 +54,7 @@ bool MappingPipeline::Process(const SensorEvent& event, std::string* error) {
       ++counters_.refused_inputs;
       last_refusal_ = refusal;
     }
+    if (!laser_carries_odometry_) mask_.AddOdometry(event.odometry->timestamp, event.odometry->robot_pose);
   }
   if (event.camera) ++counters_.camera_frames;
   if (event.laser) {
@@ -66,8 +68,17 @@ bool MappingPipeline::Process(const SensorEvent& event, std::string* error) {
         !slam_->AddOdometry({laser.scan.timestamp, laser.robot_pose}, &refusal)) {
       last_refusal_ = refusal;  // e.g. the same instant as an ODOM line: harmless
     }
+    if (laser_carries_odometry_) mask_.AddOdometry(laser.scan.timestamp, laser.robot_pose);
     ++counters_.scans;
-    if (!slam_->AddScan(laser.scan, &refusal)) {
+    const LaserScan* scan = &laser.scan;
+    LaserScan masked;
+    if (options_.mask_seen_robots && !mask_.empty()) {
+      masked = laser.scan;
+      const int n = mask_.Apply(&masked);
+      counters_.masked_returns += n;
+      if (n > 0) scan = &masked;
+    }
+    if (!slam_->AddScan(*scan, &refusal)) {
       ++counters_.refused_inputs;
       last_refusal_ = refusal;
     }
@@ -81,6 +92,7 @@ bool MappingPipeline::Process(const SensorEvent& event, std::string* error) {
   if (detection_ && (event.laser || event.camera)) {
     std::vector<RobotDetection> detections;
     detection_->Process(event, &detections);
+    for (const RobotDetection& d : detections) mask_.AddDetection(d);
     if (!AddDetections(detections, error)) return false;
   }
   return true;

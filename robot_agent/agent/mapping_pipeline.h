@@ -10,6 +10,7 @@
 
 #include "robot_agent/agent/detection_stage.h"
 #include "robot_agent/agent/outbox.h"
+#include "robot_agent/slam/seen_robot_mask.h"
 #include "robot_agent/agent/sensor_source.h"
 #include "robot_agent/slam/local_slam.h"
 #include "shared/core/robot_detection.h"
@@ -23,6 +24,9 @@ struct MappingPipelineOptions {
   double trajectory_period = 5.0;
   double active_submap_period = 0.0;
   int zstd_level = 1;
+  // Returns off robots the camera detected are kept out of local SLAM (seen_robot_mask.h).
+  bool mask_seen_robots = true;
+  SeenRobotMaskOptions mask;
 };
 
 // Counters, readable from other threads (status lines).
@@ -35,6 +39,7 @@ struct PipelineCounters {
   std::atomic<int64_t> finished_submaps_queued{0};
   std::atomic<int64_t> trajectories_queued{0};
   std::atomic<int64_t> detections_queued{0};
+  std::atomic<int64_t> masked_returns{0};  // laser returns off detected robots, kept out of SLAM
 };
 
 // sensor event -> local SLAM -> outbox: feeds the backend in time order and writes every
@@ -83,6 +88,7 @@ class MappingPipeline {
   const std::function<double()> now_;
   const std::function<void()> on_queued_;
   PipelineCounters counters_;
+  SeenRobotMask mask_;
   bool laser_carries_odometry_ = false;  // then ODOM lines are left out
   std::optional<Rigid2d> first_laser_odometry_;
   double last_trajectory_time_ = -1e300;

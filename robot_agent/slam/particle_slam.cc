@@ -50,7 +50,7 @@ ParticleSlam::PreparedScan ParticleSlam::Prepare(const LaserScan& scan,
   PreparedScan prepared;
   prepared.limited = scan;
   for (float& range : prepared.limited.ranges) {
-    if (!(range <= options_.max_range)) range = LaserScan::kNoReturn;
+    if (range > options_.max_range) range = LaserScan::kNoReturn;  // a masked (NaN) beam stays masked
   }
   const std::vector<Eigen::Vector2f> returns = ToPointsInRobotFrame(prepared.limited);
   const std::vector<Eigen::Vector2f> matched = InsideRecentHorizons(returns, predicted);

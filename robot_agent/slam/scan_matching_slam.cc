@@ -87,7 +87,7 @@ std::vector<Eigen::Vector2f> ScanMatchingSlam::NoReturnEnds(const LaserScan& sca
   const float horizon = Horizon(scan, options_.max_range);
   std::vector<Eigen::Vector2f> ends;
   for (int i = 0; i < scan.size(); ++i) {
-    if (scan.IsReturn(i) && scan.ranges[static_cast<size_t>(i)] <= horizon) continue;
+    if ((scan.IsReturn(i) && scan.ranges[static_cast<size_t>(i)] <= horizon) || scan.IsMasked(i)) continue;
     const double angle = static_cast<double>(scan.angle(i));
     ends.push_back((scan.sensor_in_robot * Eigen::Vector2d(horizon * std::cos(angle), horizon * std::sin(angle))).cast<float>());
   }

@@ -11,6 +11,8 @@ bool LaserScan::IsReturn(int i) const {
   return std::isfinite(r);
 }
 
+bool LaserScan::IsMasked(int i) const { return std::isnan(ranges[static_cast<size_t>(i)]); }
+
 int LaserScan::CountReturns() const {
   int count = 0;
   for (float r : ranges) count += std::isfinite(r) ? 1 : 0;

@@ -15,6 +15,9 @@ namespace fleetmap {
 // so no caller can mistake "nothing there" for "a wall at max range".
 struct LaserScan {
   static constexpr float kNoReturn = std::numeric_limits<float>::infinity();
+  // A return taken out on purpose (e.g. one that hit another robot): neither a hit nor free
+  // space along the beam. MakeLaserScan never produces it (non-finite input is kNoReturn).
+  static constexpr float kMasked = std::numeric_limits<float>::quiet_NaN();
 
   double timestamp = 0.0;  // seconds
   float angle_min = 0.0f;  // radians
@@ -28,6 +31,7 @@ struct LaserScan {
   int size() const { return static_cast<int>(ranges.size()); }
   float angle(int i) const { return angle_min + static_cast<float>(i) * angle_increment; }
   bool IsReturn(int i) const;
+  bool IsMasked(int i) const;
   int CountReturns() const;
   bool HasReturns() const { return CountReturns() > 0; }
 };

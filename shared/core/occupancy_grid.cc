@@ -124,7 +124,7 @@ void OccupancyGrid::InsertScan(const LaserScan& scan, const Rigid2d& robot_in_ma
     float range = scan.ranges[static_cast<size_t>(i)];
     bool hit = true;
     if (!scan.IsReturn(i)) {
-      if (options_.no_return_free_distance <= 0.0f) continue;
+      if (options_.no_return_free_distance <= 0.0f || scan.IsMasked(i)) continue;
       range = std::min(options_.no_return_free_distance, trace_limit);
       hit = false;
     } else if (trace_limit > 0.0f && range > trace_limit) {

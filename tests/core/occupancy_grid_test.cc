@@ -93,6 +93,21 @@ TEST(OccupancyGridTest, NoReturnBeamsMarkNothingOccupied) {
   EXPECT_FALSE(clear.IsKnown(clear.CellAt({2.5, 0.0})));
 }
 
+// A masked beam (a return taken out, e.g. off another robot) is neither a hit nor free space,
+// also where no-return beams clear space.
+TEST(OccupancyGridTest, MaskedBeamsMarkNothing) {
+  LaserScan scan = MakeLaserScan(0.0, 0.0f, 0.01f, 0.0f, 5.0f, std::vector<float>(50, 1.0f));
+  for (float& r : scan.ranges) r = LaserScan::kMasked;
+  ASSERT_TRUE(scan.IsMasked(0));
+  ASSERT_FALSE(scan.IsReturn(0));
+  OccupancyGridOptions options;
+  options.no_return_free_distance = 2.0f;
+  OccupancyGrid grid(options);
+  grid.InsertScan(scan, Rigid2d());
+  CellIndex lo, hi;
+  EXPECT_FALSE(grid.KnownBounds(&lo, &hi));
+}
+
 TEST(OccupancyGridTest, MountOffsetMovesTheRays) {
   // A single beam straight ahead hitting 1 m from a sensor mounted 0.5 m ahead of the robot.
   const LaserScan scan = MakeLaserScan(0.0, 0.0f, 0.1f, 0.0f, 10.0f, {1.0f}, Rigid2d(0.5, 0.0, 0.0));

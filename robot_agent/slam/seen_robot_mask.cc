@@ -1,0 +1,67 @@
+#include "robot_agent/slam/seen_robot_mask.h"
+
+#include <cmath>
+
+namespace fleetmap {
+
+SeenRobotMask::SeenRobotMask(const SeenRobotMaskOptions& options) : options_(options) {}
+
+void SeenRobotMask::AddOdometry(double time, const Rigid2d& pose) {
+  if (!odometry_.empty() && time <= odometry_.back().first) return;
+  odometry_.emplace_back(time, pose);
+  // Kept a little longer than max_age: a detection can reach us after later scans.
+  while (odometry_.size() > 2 && odometry_.front().first < time - 2.0 * options_.max_age - 1.0) {
+    odometry_.pop_front();
+  }
+}
+
+void SeenRobotMask::AddDetection(const RobotDetection& detection) {
+  auto it = seen_.find(detection.observed_id);
+  if (it == seen_.end() || it->second.timestamp <= detection.timestamp) seen_[detection.observed_id] = detection;
+}
+
+bool SeenRobotMask::OdometryAt(double time, Rigid2d* pose) const {
+  if (odometry_.empty() || time < odometry_.front().first || time > odometry_.back().first) return false;
+  for (size_t i = 1; i < odometry_.size(); ++i) {
+    if (odometry_[i].first < time) continue;
+    const auto& [t0, p0] = odometry_[i - 1];
+    const auto& [t1, p1] = odometry_[i];
+    const double s = (time - t0) / (t1 - t0);
+    *pose = p0 * Rigid2d(s * (p0.inverse() * p1).translation(), s * (p0.inverse() * p1).rotation());
+    return true;
+  }
+  *pose = odometry_.back().second;
+  return true;
+}
+
+int SeenRobotMask::Apply(LaserScan* scan) const {
+  Rigid2d now;
+  if (seen_.empty() || !OdometryAt(scan->timestamp, &now)) return 0;
+  struct Disk {
+    Eigen::Vector2d center;  // in the sensor frame at the scan
+    double radius;
+  };
+  std::vector<Disk> disks;
+  for (const auto& [robot, d] : seen_) {
+    const double age = scan->timestamp - d.timestamp;
+    Rigid2d then;
+    if (age < 0.0 || age > options_.max_age || !OdometryAt(d.timestamp, &then)) continue;
+    const Eigen::Vector2d in_robot = now.inverse() * then * d.position_in_observer;
+    disks.push_back({scan->sensor_in_robot.inverse() * in_robot, options_.robot_radius + options_.max_speed * age});
+  }
+  int masked = 0;
+  for (int i = 0; i < scan->size(); ++i) {
+    if (!scan->IsReturn(i)) continue;
+    const double r = scan->ranges[static_cast<size_t>(i)], a = scan->angle(i);
+    const Eigen::Vector2d end(r * std::cos(a), r * std::sin(a));
+    for (const Disk& disk : disks) {
+      if ((end - disk.center).norm() > disk.radius) continue;
+      scan->ranges[static_cast<size_t>(i)] = LaserScan::kMasked;
+      ++masked;
+      break;
+    }
+  }
+  return masked;
+}
+
+}  // namespace fleetmap

@@ -1,0 +1,53 @@
+#ifndef FLEETMAP_ROBOT_AGENT_SLAM_SEEN_ROBOT_MASK_H_
+#define FLEETMAP_ROBOT_AGENT_SLAM_SEEN_ROBOT_MASK_H_
+
+#include <deque>
+#include <map>
+#include <string>
+
+#include "shared/core/laser_scan.h"
+#include "shared/core/rigid2d.h"
+#include "shared/core/robot_detection.h"
+
+namespace fleetmap {
+
+struct SeenRobotMaskOptions {
+  // The seen robot's body plus the detector's and our own pose error (metres).
+  double robot_radius = 0.35;
+  // How fast a seen robot may have moved on since its detection (metres per second).
+  double max_speed = 1.0;
+  // Detections older than this are forgotten (seconds).
+  double max_age = 1.0;
+};
+
+// Keeps the returns off other robots out of local SLAM: a robot seen by the camera (a detection:
+// its centre in our robot frame at the scan time) is carried forward by our own odometry, and
+// the returns of later scans inside the disk it may occupy are masked (LaserScan::kMasked:
+// neither a hit nor free space). A robot driving ahead the same way only ever moves into space
+// hidden behind itself, so local SLAM's seen-free test cannot tell it from a wall; mapped, it
+// becomes a trail that drags the matches. Pure: no clocks, no I/O.
+class SeenRobotMask {
+ public:
+  explicit SeenRobotMask(const SeenRobotMaskOptions& options = SeenRobotMaskOptions());
+
+  // Our own odometry, in time order (older readings are dropped as the window moves on).
+  void AddOdometry(double time, const Rigid2d& pose);
+  // The latest detection of each seen robot is kept.
+  void AddDetection(const RobotDetection& detection);
+  // Masks the returns of `scan` (robot frame through scan->sensor_in_robot) inside a disk
+  // around each robot detected within max_age before the scan; returns how many.
+  int Apply(LaserScan* scan) const;
+  bool empty() const { return seen_.empty(); }
+
+ private:
+  // Odometry at `time` (linear between readings); nothing outside the readings kept.
+  bool OdometryAt(double time, Rigid2d* pose) const;
+
+  SeenRobotMaskOptions options_;
+  std::deque<std::pair<double, Rigid2d>> odometry_;
+  std::map<std::string, RobotDetection> seen_;  // by observed robot
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_ROBOT_AGENT_SLAM_SEEN_ROBOT_MASK_H_
