@@ -90,6 +90,19 @@ bool MergeEngine::AddOrUpdateSubmap(const Submap& submap, std::string* error) {
   }
   robot.submaps[submap.submap_id] = submap;
   robot.sources.erase(submap.submap_id);
+  if (submap.finished && !submap.scan_poses.empty()) {
+    // Detections near this submap's time whose search failed may succeed with it.
+    const std::set<size_t> pending(pending_detections_.begin(), pending_detections_.end());
+    for (const auto& [index, tries] : retry_detections_) {
+      const RobotDetection& d = detections_[index];
+      const double gap = std::max({0.0, submap.scan_poses.front().timestamp - d.timestamp,
+                                   d.timestamp - submap.scan_poses.back().timestamp});
+      if ((d.observer_id == submap.robot_id || d.observed_id == submap.robot_id) &&
+          gap <= options_.source_time_window && !pending.count(index)) {
+        pending_detections_.push_back(index);
+      }
+    }
+  }
   if (submap.finished) {
     robot.cross_queue.insert(submap.submap_id);
     robot.local_queue.insert(submap.submap_id);

@@ -39,6 +39,9 @@ struct MergeEngineOptions {
   double trajectory_max_gap = 2.0;   // seconds, for interpolating poses
   // Detections waiting for poses beyond this many are dropped, oldest first (and reported).
   size_t max_pending_detections = 10000;
+  // A detection whose search failed is tried again at most this many times, each time a
+  // finished submap of one of its robots within source_time_window of it arrives.
+  int max_detection_retries = 3;
 
   // Two alignments agree when they place the other map within these.
   double agreement_translation = 0.3;
@@ -233,6 +236,10 @@ class MergeEngine {
   std::vector<RobotDetection> detections_;
   std::vector<size_t> pending_detections_;
   std::set<size_t> pending_reported_;
+  // Detections whose heading search failed between two parts, with the number of tries: judged
+  // again when a finished submap of either robot near their time arrives (at full speed a
+  // detection often reaches the server before the submaps that show the meeting).
+  std::map<size_t, int> retry_detections_;
   std::vector<Hypothesis> hypotheses_;
   int64_t joins_ = 0;
   bool review_joins_ = false;  // a detection contradicted its robots' joined map

@@ -310,9 +310,16 @@ void MergeEngine::ProcessDetection(size_t index, MergeUpdate* update, bool* keep
   }
   if (!r.accepted) {
     event.type = AlignmentEventType::kRejected;
+    int& tries = retry_detections_[index];
+    if (++tries <= options_.max_detection_retries) {
+      event.reason += "; tried again when more of their maps arrive";
+    } else {
+      retry_detections_.erase(index);
+    }
     update->events.push_back(event);
     return;
   }
+  retry_detections_.erase(index);
   const Rigid2d b_frame_in_a_frame = r.pose * b_robot.inverse();
   Hypothesis h;
   h.robot_a = d.observer_id;

@@ -58,6 +58,7 @@ std::unique_ptr<Agent> Agent::Create(const AgentConfig& config, std::string* err
   pipeline.robot_id = config.robot_id;
   pipeline.trajectory_period = config.upload.trajectory_period;
   pipeline.active_submap_period = config.upload.active_submap_period;
+  pipeline.mask_seen_robots = config.detection.mask_seen_robots;
   agent->pipeline_ = std::make_unique<MappingPipeline>(
       pipeline, std::move(slam), agent->outbox_.get(), UnixNow, [uploader] { uploader->Notify(); });
   if (detection) agent->pipeline_->SetDetectionStage(std::move(detection));

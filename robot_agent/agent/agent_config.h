@@ -76,6 +76,8 @@ struct DetectionConfig {
   double max_time_difference = 0.05;
   // Marker name (colour model / simulator robot) -> robot id on the server, when they differ.
   std::map<std::string, std::string> robot_ids;
+  // Keep the laser returns off detected robots out of local SLAM (seen_robot_mask.h).
+  bool mask_seen_robots = true;
 };
 
 // Everything one fleetmap-agent process needs, loaded from robot.yaml.

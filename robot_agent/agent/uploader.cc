@@ -70,10 +70,11 @@ bool Uploader::WaitUntilEmpty(double timeout) {
   while (true) {
     OutboxCounts counts;
     std::string error;
+    // Under the lock Acknowledge holds while it removes and counts: empty means counted too.
+    std::unique_lock<std::mutex> lock(mutex_);
     if (outbox_->Counts(&counts, &error) && counts.pending == 0) return true;
     if (Clock::now() >= deadline) return false;
     // Woken after every round; the short cap also covers rounds that ended before we waited.
-    std::unique_lock<std::mutex> lock(mutex_);
     progress_.wait_until(lock, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
   }
 }

@@ -45,11 +45,12 @@ void Uploader::DropSuperseded(const std::vector<OutboxItem>& items) {
   std::vector<int64_t> seqs;
   for (const OutboxItem& item : items) seqs.push_back(item.seq);
   std::string error;
+  std::unique_lock<std::mutex> lock(mutex_);  // removed and counted in one step (Acknowledge)
   if (!outbox_->Acknowledge(seqs, &error)) {
+    lock.unlock();
     NoteError(error);
     return;
   }
-  std::lock_guard<std::mutex> lock(mutex_);
   stats_.superseded += static_cast<int64_t>(items.size());
 }
 
@@ -65,9 +66,11 @@ void Uploader::RejectItem(const OutboxItem& item, int code, const std::string& m
                OutboxKindName(item.key.kind), static_cast<long long>(item.key.id),
                static_cast<long long>(item.key.revision), message.c_str());
   std::string error;
-  if (!outbox_->Reject(item.seq, code, message, &error)) NoteError(error);
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_lock<std::mutex> lock(mutex_);  // set aside and counted in one step (Acknowledge)
+  const bool stored = outbox_->Reject(item.seq, code, message, &error);
   ++stats_.rejected;
+  lock.unlock();
+  if (!stored) NoteError(error);
 }
 
 void Uploader::Acknowledge(const std::vector<OutboxItem>& items, int64_t duplicates) {
@@ -75,12 +78,15 @@ void Uploader::Acknowledge(const std::vector<OutboxItem>& items, int64_t duplica
   std::vector<int64_t> seqs;
   for (const OutboxItem& item : items) seqs.push_back(item.seq);
   std::string error;
+  // Removed from the outbox and counted in one step, so that whoever sees the outbox empty
+  // (WaitUntilEmpty, under the same lock) also sees the counts.
+  std::unique_lock<std::mutex> lock(mutex_);
   if (!outbox_->Acknowledge(seqs, &error)) {
+    lock.unlock();
     // Still queued: they will be sent again and acknowledged as duplicates.
     NoteError(error);
     return;
   }
-  std::lock_guard<std::mutex> lock(mutex_);
   stats_.duplicates += duplicates;
   for (const OutboxItem& item : items) {
     switch (item.key.kind) {

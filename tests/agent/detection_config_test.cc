@@ -54,6 +54,7 @@ TEST_F(DetectionConfigTest, ReadsEveryField) {
   laser_range_noise: 0.02
   max_time_difference: 0.04
   robot_ids: {r2: robot-two}
+  mask_seen_robots: false
 )",
                        &config, &error))
       << error;
@@ -70,6 +71,7 @@ TEST_F(DetectionConfigTest, ReadsEveryField) {
   EXPECT_DOUBLE_EQ(d.laser_range_noise, 0.02);
   EXPECT_DOUBLE_EQ(d.max_time_difference, 0.04);
   EXPECT_EQ(d.robot_ids.at("r2"), "robot-two");
+  EXPECT_FALSE(d.mask_seen_robots);
 }
 
 TEST_F(DetectionConfigTest, SimulatorNeedsNothingButTheCamera) {

@@ -321,6 +321,38 @@ TEST(MergeEngineTest, AJoinContradictedByDetectionsLeavesTheRobotUnplaced) {
   EXPECT_EQ(engine.PlacedRobots(), std::vector<std::string>{"a"});
 }
 
+// At full speed detections often reach the server before the submaps that show the meeting:
+// here b's submaps first arrive as empty snapshots, so the heading search has nothing to match
+// and fails. When b's finished submaps near the detections' time arrive, the detections are
+// judged again and align b.
+TEST(MergeEngineTest, DetectionsAreTriedAgainWhenTheSubmapsOfTheirTimeArrive) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  MergeEngine engine(TestOptions());
+  const SimRobot a = RobotA(), b = RobotB(1.7);
+  Feed(world, a, &engine);
+  const std::vector<Submap> finished = testing::MakeSubmaps(b.id, world, b.path, b.local_in_world, 10, kDt);
+  for (Submap snapshot : finished) {
+    snapshot.grid = OccupancyGrid(snapshot.grid.options());
+    snapshot.finished = false;
+    ASSERT_TRUE(engine.AddOrUpdateSubmap(snapshot));
+  }
+  ASSERT_TRUE(engine.SetTrajectory(b.id, testing::MakeTrajectory(b.path, b.local_in_world, kDt)));
+  for (size_t step : {10u, 16u, 22u}) ASSERT_TRUE(engine.AddDetection(Detect(a, b, step, false)));
+  MergeUpdate update = engine.Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 0);
+  EXPECT_GE(Count(update, AlignmentEventType::kRejected), 3);
+  EXPECT_FALSE(engine.RobotToGlobal("b"));
+  for (Submap s : finished) {
+    s.revision = 1;
+    ASSERT_TRUE(engine.AddOrUpdateSubmap(s));
+  }
+  update = engine.Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 1);
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
+}
+
 // A single detection that no other submap can confirm stays a hypothesis; a second, independent
 // detection that agrees turns it into an alignment.
 TEST(MergeEngineTest, SingleDetectionStaysHypothesisUntilConfirmed) {
