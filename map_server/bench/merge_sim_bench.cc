@@ -26,7 +26,6 @@ struct BenchOptions {
   double detection_period = 1.0;   // one detection per ordered pair per this many seconds
   double detection_sigma = 0.05;   // metres, noise of the synthetic detections
   double outlier_fraction = 0.0;   // detections moved by 1-5 m in a random direction
-  double detections_after = 0.0;   // sim seconds: no detections before (the camera starts late)
   double false_translation = 0.5;  // a placed pair further off than this is a false merge
   double false_rotation = 0.087;
   bool verbose = false;
@@ -189,10 +188,7 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
     }
     if (options.detections) {
       for (const sim::VisibilityRecord& v : step.visibility) {
-        if (!v.visible || !local_in_world[v.observer] || !local_in_world[v.observed] ||
-            step.timestamp < options.detections_after) {
-          continue;
-        }
+        if (!v.visible || !local_in_world[v.observer] || !local_in_world[v.observed]) continue;
         RobotDetection seen;
         seen.observer_id = infos[v.observer].name;
         seen.observed_id = infos[v.observed].name;
@@ -340,9 +336,6 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--no-mask", [&](int64_t) { options.mask_seen_robots = false; },
                "with detections: do not mask the returns off seen robots before local SLAM");
-  app.add_option("--detections-after", options.detections_after,
-                 "sim seconds before which no detection is sent (matching may merge first)")
-      ->capture_default_str();
   app.add_option("--odometry-sigma-per-metre", options.engine.odometry_translation_sigma_per_metre,
                  "merge engine: translation sigma of consecutive-submap edges per metre between them")
       ->capture_default_str();

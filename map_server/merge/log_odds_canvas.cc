@@ -146,4 +146,14 @@ OccupancyGrid LogOddsCanvas::ToGrid(const OccupancyGridOptions& options,
   return grid;
 }
 
+void Include(std::optional<Box2d>* region, const std::optional<Box2d>& box) {
+  if (!box) return;
+  if (!*region) {
+    *region = box;
+    return;
+  }
+  (*region)->min = (*region)->min.cwiseMin(box->min);
+  (*region)->max = (*region)->max.cwiseMax(box->max);
+}
+
 }  // namespace fleetmap

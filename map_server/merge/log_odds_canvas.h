@@ -60,6 +60,8 @@ class LogOddsCanvas {
 
 // The bounding box of a submap's observed cells once placed at `submap_to_frame`.
 std::optional<Box2d> PlacedBounds(const OccupancyGrid& submap, const Rigid2d& submap_to_frame);
+// Grows `region` (empty: none yet) to cover `box` (empty: nothing).
+void Include(std::optional<Box2d>* region, const std::optional<Box2d>& box);
 
 }  // namespace fleetmap
 

@@ -16,16 +16,6 @@ bool Fail(std::string* error, const std::string& message) {
   return false;
 }
 
-void Include(std::optional<Box2d>* region, const std::optional<Box2d>& box) {
-  if (!box) return;
-  if (!*region) {
-    *region = box;
-    return;
-  }
-  (*region)->min = (*region)->min.cwiseMin(box->min);
-  (*region)->max = (*region)->max.cwiseMax(box->max);
-}
-
 // How far (metres) the submap's corners move between two placements.
 double Displacement(const OccupancyGrid& grid, const Rigid2d& a, const Rigid2d& b) {
   const Eigen::Vector2d lo = grid.origin();

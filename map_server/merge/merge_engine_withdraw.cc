@@ -65,14 +65,7 @@ void MergeEngine::Withdraw(const std::string& robot, const DetectionVotes& votes
   if (IsPlaced(robot)) {
     // The robot leaves the global map: where it was rendered must be drawn again.
     for (const auto& [id, rendered] : state.rendered) {
-      const auto bounds = PlacedBounds(state.submaps.at(id).grid, rendered.pose);
-      if (!bounds) continue;
-      if (!update->changed_region) {
-        update->changed_region = bounds;
-      } else {
-        update->changed_region->min = update->changed_region->min.cwiseMin(bounds->min);
-        update->changed_region->max = update->changed_region->max.cwiseMax(bounds->max);
-      }
+      Include(&update->changed_region, PlacedBounds(state.submaps.at(id).grid, rendered.pose));
     }
     update->graph_changed = true;
   }
@@ -144,12 +137,11 @@ void MergeEngine::Withdraw(const std::string& robot, const DetectionVotes& votes
   AlignmentEvent event;
   event.type = AlignmentEventType::kWithdrawn;
   event.evidence = EvidenceKind::kDetection;
+  // The part it left: the old root's, or, when the robot was that root, another member's.
   event.robot_a = old_root;
-  for (const std::string& m : members) {
-    if (old_root == robot && m != robot) {
-      event.robot_a = Root(m);
-      break;
-    }
+  if (old_root == robot) {
+    const auto other = std::find_if(members.begin(), members.end(), [&](const std::string& m) { return m != robot; });
+    if (other != members.end()) event.robot_a = Root(*other);
   }
   event.robot_b = robot;
   std::ostringstream os;
