@@ -15,6 +15,7 @@
 #include "robot_agent/sim/scenario.h"
 #include "robot_agent/sim/simulation.h"
 #include "robot_agent/slam/backend_factory.h"
+#include "robot_agent/detection/laser_body.h"
 #include "robot_agent/slam/seen_robot_mask.h"
 
 namespace fleetmap {
@@ -31,6 +32,9 @@ struct BenchOptions {
   bool verbose = false;
   MergeEngineOptions engine;
   bool mask_seen_robots = true;  // with detections: returns off seen robots kept out of local SLAM
+  // Round bodies the laser alone finds masked too (the agent's detection.mask_laser_bodies).
+  bool mask_laser_bodies = false;
+  LaserBodyOptions laser_bodies;
 };
 
 struct RunResult {
@@ -39,6 +43,8 @@ struct RunResult {
   int placed_pairs = 0;
   int false_merges = 0;
   int64_t masked_returns = 0;  // laser returns off seen robots kept out of local SLAM
+  int64_t laser_bodies = 0;    // round bodies the laser alone found
+  int64_t laser_bodies_on_robots = 0;  // of those, within 0.3 m of another robot's true centre
   // Submaps of different robots whose true anchors are within kNearSubmaps: their relative pose
   // in the merged graph against the truth (local consistency of the merge, without the drift
   // accumulated since the robots' starts).
@@ -169,6 +175,8 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
   // As in the agent: each robot masks the returns off robots its camera saw (every visible
   // record, the camera's rate), whatever the upload period of the detections.
   std::vector<SeenRobotMask> masks(n);
+  std::vector<Rigid2d> latest_truth(n);
+  const double body_radius = sim->scenario().body.radius;
   while (!sim->Done()) {
     sim::StepResult step = sim->Step();
     for (sim::SensorPacket& packet : step.packets) {
@@ -182,7 +190,22 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
       if (packet.laser) {
         if (!local_in_world[i]) local_in_world[i] = packet.ground_truth;
         truth_at_scan[i][packet.laser->scan.timestamp] = packet.ground_truth;
-        if (options.detections && options.mask_seen_robots) result->masked_returns += masks[i].Apply(&packet.laser->scan);
+        latest_truth[i] = packet.ground_truth;
+        if (options.mask_laser_bodies) {
+          const std::vector<Eigen::Vector2d> bodies = FindLaserBodies(packet.laser->scan, body_radius, options.laser_bodies);
+          for (const Eigen::Vector2d& body : bodies) {
+            ++result->laser_bodies;
+            bool on_robot = false;
+            for (size_t j = 0; j < n && !on_robot; ++j) {
+              on_robot = j != i && (latest_truth[i].inverse() * latest_truth[j].translation() - body).norm() < 0.3;
+            }
+            result->laser_bodies_on_robots += on_robot;
+          }
+          masks[i].AddLaserBodies(packet.laser->scan.timestamp, bodies);
+        }
+        if ((options.detections && options.mask_seen_robots) || options.mask_laser_bodies) {
+          result->masked_returns += masks[i].Apply(&packet.laser->scan);
+        }
         slam.AddScan(packet.laser->scan, &why);
       }
     }
@@ -336,6 +359,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--no-mask", [&](int64_t) { options.mask_seen_robots = false; },
                "with detections: do not mask the returns off seen robots before local SLAM");
+  app.add_flag("--laser-bodies", options.mask_laser_bodies,
+               "also mask the returns off round bodies the laser alone finds (with or without detections)");
+  app.add_option("--laser-body-min-returns", options.laser_bodies.min_returns,
+                 "fewest returns a round body found by the laser alone must have")
+      ->capture_default_str();
   app.add_option("--odometry-sigma-per-metre", options.engine.odometry_translation_sigma_per_metre,
                  "merge engine: translation sigma of consecutive-submap edges per metre between them")
       ->capture_default_str();
@@ -373,11 +401,14 @@ int main(int argc, char** argv) {
       std::printf(
           "  merged pairs %d/%d, false merges %d, max error %.3f m / %.3f deg, map within 1 "
           "cell of a wall %.2f %%, submaps %d, Update() median %.1f ms (max %.1f), per new "
-          "submap median %.1f ms, sim %.0f s, wall %.0f s, masked returns %lld\n",
+          "submap median %.1f ms, sim %.0f s, wall %.0f s, masked returns %lld, laser bodies %lld "
+          "(%lld within 0.3 m of another robot)\n",
           result.placed_pairs, result.pairs, result.false_merges, result.max_translation,
           result.max_rotation * 180.0 / M_PI, 100.0 * result.map_accuracy, result.submaps,
           result.median_update_ms, result.max_update_ms, result.median_fold_ms,
-          result.sim_seconds, wall, static_cast<long long>(result.masked_returns));
+          result.sim_seconds, wall, static_cast<long long>(result.masked_returns),
+          static_cast<long long>(result.laser_bodies),
+          static_cast<long long>(result.laser_bodies_on_robots));
       std::fflush(stdout);
       false_merges += result.false_merges;
     }

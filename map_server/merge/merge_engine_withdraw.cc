@@ -42,7 +42,10 @@ bool MergeEngine::ReviewJoins(MergeUpdate* update) {
     for (const auto& [robot, state] : robots_) {
       if (known_placements_.count(robot) || Members(Root(robot)).size() < 2) continue;
       const DetectionVotes v = VotesWithin(robot);
-      if (v.contradicting < options_.min_withdrawing_detections || v.contradicting <= v.agreeing) continue;
+      if (v.contradicting < options_.min_withdrawing_detections ||
+          v.contradicting <= options_.withdraw_majority * v.agreeing) {
+        continue;
+      }
       const int margin = v.contradicting - v.agreeing;
       const int worst_margin = worst_votes.contradicting - worst_votes.agreeing;
       if (worst.empty() || margin > worst_margin ||

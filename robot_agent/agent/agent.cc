@@ -10,6 +10,9 @@
 #include "robot_agent/agent/detection_factory.h"
 #include "robot_agent/agent/proto_conversions.h"
 #include "robot_agent/agent/slam_factory.h"
+#ifdef FLEETMAP_AGENT_HAVE_SIM
+#include "robot_agent/agent/sim_source.h"
+#endif
 
 namespace fleetmap {
 namespace {
@@ -59,6 +62,15 @@ std::unique_ptr<Agent> Agent::Create(const AgentConfig& config, std::string* err
   pipeline.trajectory_period = config.upload.trajectory_period;
   pipeline.active_submap_period = config.upload.active_submap_period;
   pipeline.mask_seen_robots = config.detection.mask_seen_robots;
+  if (config.detection.mask_laser_bodies) {
+    pipeline.laser_body_radius = config.detection.marker.body_radius;
+    pipeline.laser_bodies.fusion.range_noise = config.detection.laser_range_noise;
+#ifdef FLEETMAP_AGENT_HAVE_SIM
+    if (const auto* sim = dynamic_cast<const SimSource*>(agent->source_.get())) {
+      pipeline.laser_body_radius = sim->simulation().scenario().body.radius;
+    }
+#endif
+  }
   agent->pipeline_ = std::make_unique<MappingPipeline>(
       pipeline, std::move(slam), agent->outbox_.get(), UnixNow, [uploader] { uploader->Notify(); });
   if (detection) agent->pipeline_->SetDetectionStage(std::move(detection));

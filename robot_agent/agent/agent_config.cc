@@ -225,6 +225,7 @@ void ReadDetection(Fields& root, const std::string& base_dir, DetectionConfig* c
   detection.Get("max_time_difference", &config->max_time_difference);
   ReadNameMap(detection, "robot_ids", &config->robot_ids);
   detection.Get("mask_seen_robots", &config->mask_seen_robots);
+  detection.Get("mask_laser_bodies", &config->mask_laser_bodies);
   detection.CheckUnknown();
 }
 

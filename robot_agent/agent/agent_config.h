@@ -78,6 +78,11 @@ struct DetectionConfig {
   std::map<std::string, std::string> robot_ids;
   // Keep the laser returns off detected robots out of local SLAM (seen_robot_mask.h).
   bool mask_seen_robots = true;
+  // Also keep out free-standing round bodies of the marker's body_radius that the laser alone
+  // finds (laser_body.h): robots outside the camera's view, and with detection disabled. Works
+  // with mask_seen_robots only. Off by default: in the simulated department it did not make the
+  // maps better (docs/BENCHMARKS.md); for robots without cameras.
+  bool mask_laser_bodies = false;
 };
 
 // Everything one fleetmap-agent process needs, loaded from robot.yaml.

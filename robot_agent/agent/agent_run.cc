@@ -107,6 +107,7 @@ std::string Agent::StatusLine() const {
        << " | detections queued=" << counters.detections_queued
        << " sent=" << stats.acked_detections
        << " pending=" << counts.pending_detections << " masked returns=" << counters.masked_returns
+       << " laser bodies=" << counters.laser_bodies
        << " | rejected=" << counts.rejected
        << " duplicates=" << stats.duplicates << " | server " << ConnectionStateName(stats.state);
   if (stats.state == ConnectionState::kDisconnected && !stats.last_error.empty()) {

@@ -72,6 +72,12 @@ bool MappingPipeline::Process(const SensorEvent& event, std::string* error) {
     ++counters_.scans;
     const LaserScan* scan = &laser.scan;
     LaserScan masked;
+    if (options_.mask_seen_robots && options_.laser_body_radius > 0.0) {
+      const std::vector<Eigen::Vector2d> bodies =
+          FindLaserBodies(laser.scan, options_.laser_body_radius, options_.laser_bodies);
+      counters_.laser_bodies += static_cast<int64_t>(bodies.size());
+      mask_.AddLaserBodies(laser.scan.timestamp, bodies);
+    }
     if (options_.mask_seen_robots && !mask_.empty()) {
       masked = laser.scan;
       const int n = mask_.Apply(&masked);

@@ -10,6 +10,7 @@
 
 #include "robot_agent/agent/detection_stage.h"
 #include "robot_agent/agent/outbox.h"
+#include "robot_agent/detection/laser_body.h"
 #include "robot_agent/slam/seen_robot_mask.h"
 #include "robot_agent/agent/sensor_source.h"
 #include "robot_agent/slam/local_slam.h"
@@ -27,6 +28,10 @@ struct MappingPipelineOptions {
   // Returns off robots the camera detected are kept out of local SLAM (seen_robot_mask.h).
   bool mask_seen_robots = true;
   SeenRobotMaskOptions mask;
+  // > 0: also mask free-standing round bodies of this radius that the laser alone finds
+  // (laser_body.h): robots beside or behind the camera's view, or with no camera at all.
+  double laser_body_radius = 0.0;
+  LaserBodyOptions laser_bodies;
 };
 
 // Counters, readable from other threads (status lines).
@@ -40,6 +45,7 @@ struct PipelineCounters {
   std::atomic<int64_t> trajectories_queued{0};
   std::atomic<int64_t> detections_queued{0};
   std::atomic<int64_t> masked_returns{0};  // laser returns off detected robots, kept out of SLAM
+  std::atomic<int64_t> laser_bodies{0};    // round bodies the laser alone found (and masked)
 };
 
 // sensor event -> local SLAM -> outbox: feeds the backend in time order and writes every

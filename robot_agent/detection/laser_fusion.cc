@@ -8,48 +8,12 @@
 
 #include <Eigen/Dense>
 
-#include "robot_agent/detection/circle_fit.h"
+#include "robot_agent/detection/laser_body.h"
 
 namespace fleetmap {
 namespace {
 
-struct Segment {
-  int first = 0;  // beam indices, inclusive
-  int last = 0;
-};
-
-// Splits the scan into runs of returns that belong to one object.
-std::vector<Segment> SegmentScan(const LaserScan& scan, const LaserFusionOptions& options) {
-  std::vector<Segment> segments;
-  int start = -1;
-  Eigen::Vector2d previous = Eigen::Vector2d::Zero();
-  for (int i = 0; i < scan.size(); ++i) {
-    if (!scan.IsReturn(i)) {
-      if (start >= 0) segments.push_back({start, i - 1});
-      start = -1;
-      continue;
-    }
-    const double range = scan.ranges[i];
-    const Eigen::Vector2d point(range * std::cos(scan.angle(i)), range * std::sin(scan.angle(i)));
-    const double jump =
-        std::max(options.min_jump, options.jump_beams * range * std::abs(scan.angle_increment));
-    if (start >= 0 && (point - previous).norm() > jump) {
-      segments.push_back({start, i - 1});
-      start = -1;
-    }
-    if (start < 0) start = i;
-    previous = point;
-  }
-  if (start >= 0) segments.push_back({start, scan.size() - 1});
-  return segments;
-}
-
 double AngleOf(const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); }
-
-BeamReturn BeamAt(const LaserScan& scan, int i) {
-  const double a = scan.angle(i);
-  return BeamReturn{Eigen::Vector2d(std::cos(a), std::sin(a)), scan.ranges[i]};
-}
 
 // The segment where the candidate's body should be: among the objects inside the bearing window
 // the camera allows, the one whose range best matches the marker's apparent size.
@@ -95,77 +59,6 @@ std::optional<Segment> FindBodySegment(const MarkerCandidate& candidate, const L
   return best;
 }
 
-// Checks that `segment` is a free-standing body of the known radius and fits it: narrow, in
-// front of its surroundings (or hidden on one side by something nearer), round rather than flat.
-FusionStatus MeasureBody(const LaserScan& scan, Segment segment, const MarkerGeometry& geometry,
-                         const LaserFusionOptions& options, CircleFit* fit, int* returns) {
-  std::vector<BeamReturn> beams;
-  auto collect = [&]() {
-    beams.clear();
-    for (int i = segment.first; i <= segment.last; ++i) beams.push_back(BeamAt(scan, i));
-  };
-  // A robot is narrower than its diameter; a wall (and a poster on it) is not.
-  auto too_wide = [&]() {
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const BeamReturn& beam : beams) nearest = std::min(nearest, beam.range);
-    const double width = (beams.front().point() - beams.back().point()).norm();
-    return width > 2.0 * geometry.body_radius + options.width_tolerance +
-                       nearest * std::abs(scan.angle_increment);
-  };
-  collect();
-  if (too_wide()) return FusionStatus::kSurfaceTooWide;
-  if (static_cast<int>(beams.size()) < std::max(2, options.min_returns)) {
-    return FusionStatus::kTooFewReturns;
-  }
-  std::optional<CircleFit> circle = FitCircleKnownRadius(beams, geometry.body_radius);
-  if (!circle) return FusionStatus::kPoorFit;
-  // Steep returns near the body's limbs can be split off by the segmentation; take back the
-  // neighbours that lie on the fitted circle, then refit.
-  const double on_circle = std::max(3.0 * options.range_noise, 0.02);
-  auto lies_on_circle = [&](int i) {
-    if (i < 0 || i >= scan.size() || !scan.IsReturn(i)) return false;
-    return std::abs((BeamAt(scan, i).point() - circle->center).norm() - geometry.body_radius) <
-           on_circle;
-  };
-  const Segment before = segment;
-  while (lies_on_circle(segment.first - 1)) --segment.first;
-  while (lies_on_circle(segment.last + 1)) ++segment.last;
-  if (segment.first != before.first || segment.last != before.last) {
-    collect();
-    if (too_wide()) return FusionStatus::kSurfaceTooWide;
-    circle = FitCircleKnownRadius(beams, geometry.body_radius);
-    if (!circle) return FusionStatus::kPoorFit;
-  }
-  // It must stand in front of what is beside it (no return counts as far away). A nearer
-  // neighbour on one side is an occluder (another robot's body may hide part of this one from
-  // the laser while its marker, higher up, stays in view); then the visible arc must show its
-  // curvature on its own.
-  double nearest = std::numeric_limits<double>::infinity();
-  for (const BeamReturn& beam : beams) nearest = std::min(nearest, beam.range);
-  auto stands_out_at = [&](int i) {
-    if (i < 0 || i >= scan.size() || !scan.IsReturn(i)) return true;
-    return scan.ranges[i] > nearest + options.min_jump;
-  };
-  auto occluder_at = [&](int i, int end) {
-    return i >= 0 && i < scan.size() && scan.IsReturn(i) &&
-           scan.ranges[i] < scan.ranges[end] - options.min_jump;
-  };
-  const bool left_out = stands_out_at(segment.first - 1);
-  const bool right_out = stands_out_at(segment.last + 1);
-  const bool occluded = (left_out && occluder_at(segment.last + 1, segment.last)) ||
-                        (right_out && occluder_at(segment.first - 1, segment.first));
-  if (!(left_out && right_out) && !(occluded && beams.size() >= 3)) {
-    return FusionStatus::kNoDepthEdge;
-  }
-  if (circle->rms > options.max_rms_sigmas * options.range_noise ||
-      (beams.size() >= (occluded ? 3u : 4u) && LineFitRms(beams) < circle->rms)) {
-    return FusionStatus::kPoorFit;
-  }
-  *fit = *circle;
-  *returns = static_cast<int>(beams.size());
-  return FusionStatus::kConfirmed;
-}
-
 }  // namespace
 
 const char* FusionStatusName(FusionStatus status) {
@@ -201,7 +94,8 @@ FusionResult FuseWithLaser(const MarkerCandidate& candidate, const LaserScan& sc
   }
   CircleFit fit;
   int returns = 0;
-  result.status = MeasureBody(scan, *segment, geometry, options, &fit, &returns);
+  Segment body = *segment;
+  result.status = MeasureBody(scan, &body, geometry.body_radius, options, &fit, &returns);
   if (result.status != FusionStatus::kConfirmed) return result;
 
   const Eigen::Vector2d center_in_robot = scan.sensor_in_robot * fit.center;

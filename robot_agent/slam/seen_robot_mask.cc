@@ -20,6 +20,13 @@ void SeenRobotMask::AddDetection(const RobotDetection& detection) {
   if (it == seen_.end() || it->second.timestamp <= detection.timestamp) seen_[detection.observed_id] = detection;
 }
 
+void SeenRobotMask::AddLaserBodies(double time, const std::vector<Eigen::Vector2d>& centers_in_robot) {
+  for (const Eigen::Vector2d& c : centers_in_robot) laser_bodies_.emplace_back(time, c);
+  while (!laser_bodies_.empty() && laser_bodies_.front().first < time - options_.max_laser_body_age) {
+    laser_bodies_.pop_front();
+  }
+}
+
 bool SeenRobotMask::OdometryAt(double time, Rigid2d* pose) const {
   if (odometry_.empty() || time < odometry_.front().first || time > odometry_.back().first) return false;
   for (size_t i = 1; i < odometry_.size(); ++i) {
@@ -36,19 +43,22 @@ bool SeenRobotMask::OdometryAt(double time, Rigid2d* pose) const {
 
 int SeenRobotMask::Apply(LaserScan* scan) const {
   Rigid2d now;
-  if (seen_.empty() || !OdometryAt(scan->timestamp, &now)) return 0;
+  if (empty() || !OdometryAt(scan->timestamp, &now)) return 0;
   struct Disk {
     Eigen::Vector2d center;  // in the sensor frame at the scan
     double radius;
   };
   std::vector<Disk> disks;
-  for (const auto& [robot, d] : seen_) {
-    const double age = scan->timestamp - d.timestamp;
+  // A body seen at `time` at `center` (our robot frame then), carried to the scan by odometry.
+  auto add_disk = [&](double time, const Eigen::Vector2d& center, double max_age) {
+    const double age = scan->timestamp - time;
     Rigid2d then;
-    if (age < 0.0 || age > options_.max_age || !OdometryAt(d.timestamp, &then)) continue;
-    const Eigen::Vector2d in_robot = now.inverse() * then * d.position_in_observer;
+    if (age < 0.0 || age > max_age || !OdometryAt(time, &then)) return;
+    const Eigen::Vector2d in_robot = now.inverse() * then * center;
     disks.push_back({scan->sensor_in_robot.inverse() * in_robot, options_.robot_radius + options_.max_speed * age});
-  }
+  };
+  for (const auto& [robot, d] : seen_) add_disk(d.timestamp, d.position_in_observer, options_.max_age);
+  for (const auto& [time, center] : laser_bodies_) add_disk(time, center, options_.max_laser_body_age);
   int masked = 0;
   for (int i = 0; i < scan->size(); ++i) {
     if (!scan->IsReturn(i)) continue;

@@ -4,6 +4,10 @@
 #include <deque>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "shared/core/laser_scan.h"
 #include "shared/core/rigid2d.h"
@@ -18,6 +22,9 @@ struct SeenRobotMaskOptions {
   double max_speed = 1.0;
   // Detections older than this are forgotten (seconds).
   double max_age = 1.0;
+  // Bodies the laser alone found (AddLaserBodies) mask this long; a body the finder misses in
+  // one scan (half hidden, too few returns) stays masked from the scans before.
+  double max_laser_body_age = 0.3;
 };
 
 // Keeps the returns off other robots out of local SLAM: a robot seen by the camera (a detection:
@@ -34,10 +41,14 @@ class SeenRobotMask {
   void AddOdometry(double time, const Rigid2d& pose);
   // The latest detection of each seen robot is kept.
   void AddDetection(const RobotDetection& detection);
+  // Round bodies the laser alone found in the scan at `time` (centres in our robot frame, e.g.
+  // robots outside the camera's view); replaces none of the camera's detections.
+  void AddLaserBodies(double time, const std::vector<Eigen::Vector2d>& centers_in_robot);
   // Masks the returns of `scan` (robot frame through scan->sensor_in_robot) inside a disk
-  // around each robot detected within max_age before the scan; returns how many.
+  // around each robot detected within max_age before the scan (and each laser body within
+  // max_laser_body_age); returns how many.
   int Apply(LaserScan* scan) const;
-  bool empty() const { return seen_.empty(); }
+  bool empty() const { return seen_.empty() && laser_bodies_.empty(); }
 
  private:
   // Odometry at `time` (linear between readings); nothing outside the readings kept.
@@ -46,6 +57,8 @@ class SeenRobotMask {
   SeenRobotMaskOptions options_;
   std::deque<std::pair<double, Rigid2d>> odometry_;
   std::map<std::string, RobotDetection> seen_;  // by observed robot
+  // (time, centre in our robot frame), time order.
+  std::deque<std::pair<double, Eigen::Vector2d>> laser_bodies_;
 };
 
 }  // namespace fleetmap

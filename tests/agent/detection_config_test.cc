@@ -55,6 +55,7 @@ TEST_F(DetectionConfigTest, ReadsEveryField) {
   max_time_difference: 0.04
   robot_ids: {r2: robot-two}
   mask_seen_robots: false
+  mask_laser_bodies: true
 )",
                        &config, &error))
       << error;
@@ -72,6 +73,8 @@ TEST_F(DetectionConfigTest, ReadsEveryField) {
   EXPECT_DOUBLE_EQ(d.max_time_difference, 0.04);
   EXPECT_EQ(d.robot_ids.at("r2"), "robot-two");
   EXPECT_FALSE(d.mask_seen_robots);
+  EXPECT_TRUE(d.mask_laser_bodies);
+  EXPECT_FALSE(AgentConfig().detection.mask_laser_bodies);  // off unless asked for
 }
 
 TEST_F(DetectionConfigTest, SimulatorNeedsNothingButTheCamera) {

@@ -8,17 +8,8 @@
 namespace fleetmap {
 namespace {
 
+using testing::AddCylinder;
 using testing::SegmentWorld;
-
-// Appends a 90-gon standing in for the robot's body cylinder.
-void AddCylinder(const Eigen::Vector2d& center, double radius, SegmentWorld* world) {
-  constexpr int kSides = 90;
-  for (int i = 0; i < kSides; ++i) {
-    const double a0 = 2.0 * M_PI * i / kSides, a1 = 2.0 * M_PI * (i + 1) / kSides;
-    world->push_back({center + radius * Eigen::Vector2d(std::cos(a0), std::sin(a0)),
-                      center + radius * Eigen::Vector2d(std::cos(a1), std::sin(a1))});
-  }
-}
 
 class LaserFusionTest : public ::testing::Test {
  protected:

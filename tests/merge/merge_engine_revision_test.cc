@@ -97,6 +97,31 @@ TEST(MergeEngineTest, AJoinContradictedByDetectionsLeavesTheRobotUnplaced) {
   EXPECT_EQ(engine.PlacedRobots(), std::vector<std::string>{"a"});
 }
 
+// A join is withdrawn only on a clear majority: a robot that drifts, or a stream with outliers,
+// gives both agreeing and contradicting detections in numbers. With 4 agreeing, 5 contradicting
+// ones keep b joined; 7 (more than 1.5 times as many) withdraw it.
+TEST(MergeEngineTest, AJoinIsWithdrawnOnlyWhenAClearMajorityContradictsIt) {
+  const SimRobot a = RobotA(), b = RobotB(-2.4);
+  auto engine_owner = OverlappingRobotsWithSearches(a, b);
+  MergeEngine& engine = *engine_owner;
+  engine.Update();
+  ASSERT_TRUE(EstimatedRelative(engine, "a", "b"));
+  for (size_t step : {5u, 15u, 25u, 35u}) ASSERT_TRUE(engine.AddDetection(Detect(a, b, step, false)));
+  auto add_wrong = [&](size_t step) {
+    RobotDetection d = Detect(a, b, step, false);
+    d.position_in_observer += Eigen::Vector2d(3.0, 0.0);
+    ASSERT_TRUE(engine.AddDetection(d));
+  };
+  for (size_t step : {10u, 20u, 30u, 40u, 45u}) add_wrong(step);
+  MergeUpdate update = engine.Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kWithdrawn), 0);
+  EXPECT_THAT(*EstimatedRelative(engine, "a", "b"), IsNearPose(TrueRelative(a, b), 0.1, 0.01));
+
+  for (size_t step : {12u, 22u}) add_wrong(step);
+  update = engine.Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kWithdrawn), 1);
+}
+
 // At full speed detections often reach the server before the submaps that show the meeting:
 // here b's submaps first arrive as empty snapshots, so the heading search has nothing to match
 // and fails. When b's finished submaps near the detections' time arrive, the detections are

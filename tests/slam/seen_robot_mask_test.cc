@@ -102,5 +102,31 @@ TEST(SeenRobotMaskTest, MasksOnlyWithFreshDetectionsAndOdometry) {
   }
 }
 
+// A body the laser alone found masks the scans of the next max_laser_body_age seconds (carried
+// by odometry like a detection), and is then forgotten.
+TEST(SeenRobotMaskTest, MasksLaserBodiesForAShortWhile) {
+  const Scene scene;
+  SeenRobotMaskOptions options;
+  options.max_laser_body_age = 0.3;
+  SeenRobotMask mask(options);
+  EXPECT_TRUE(mask.empty());
+  mask.AddOdometry(0.0, Rigid2d());
+  mask.AddOdometry(1.0, Rigid2d(1.0, 0.0, 0.0));
+  mask.AddLaserBodies(0.0, {scene.other});
+  EXPECT_FALSE(mask.empty());
+  LaserScan scan = testing::SimulateScan(scene.world, Rigid2d(0.2, 0.0, 0.0));
+  scan.timestamp = 0.2;
+  const int on_robot = CountNear(scan, Eigen::Vector2d(2.8, 0.0), 0.3);
+  ASSERT_GT(on_robot, 5);
+  EXPECT_EQ(mask.Apply(&scan), on_robot);
+  EXPECT_EQ(CountNear(scan, Eigen::Vector2d(2.8, 0.0), 0.3), 0);
+
+  LaserScan later = testing::SimulateScan(scene.world, Rigid2d(0.5, 0.0, 0.0));
+  later.timestamp = 0.5;
+  EXPECT_EQ(mask.Apply(&later), 0);  // older than max_laser_body_age
+  mask.AddLaserBodies(0.9, {});      // the window moves on: the old body is dropped
+  EXPECT_TRUE(mask.empty());
+}
+
 }  // namespace
 }  // namespace fleetmap

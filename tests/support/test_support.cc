@@ -1,5 +1,6 @@
 #include "tests/support/test_support.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
@@ -19,6 +20,15 @@ void AddBox(const Eigen::Vector2d& min, const Eigen::Vector2d& max, SegmentWorld
   world->push_back({b, c});
   world->push_back({c, d});
   world->push_back({d, a});
+}
+
+void AddCylinder(const Eigen::Vector2d& center, double radius, SegmentWorld* world) {
+  constexpr int kSides = 90;
+  for (int i = 0; i < kSides; ++i) {
+    const double a0 = 2.0 * M_PI * i / kSides, a1 = 2.0 * M_PI * (i + 1) / kSides;
+    world->push_back({center + radius * Eigen::Vector2d(std::cos(a0), std::sin(a0)),
+                      center + radius * Eigen::Vector2d(std::cos(a1), std::sin(a1))});
+  }
 }
 
 namespace {

@@ -35,6 +35,8 @@ using SegmentWorld = std::vector<Segment>;
 SegmentWorld BoxWorld(const Eigen::Vector2d& min, const Eigen::Vector2d& max);
 // Appends the walls of a box to a world.
 void AddBox(const Eigen::Vector2d& min, const Eigen::Vector2d& max, SegmentWorld* world);
+// Appends a 90-gon standing in for a cylinder (a robot's body, a post).
+void AddCylinder(const Eigen::Vector2d& center, double radius, SegmentWorld* world);
 
 // A noise-free scan of `world` from `robot_in_world`: beam i at angle_min + i * increment.
 LaserScan SimulateScan(const SegmentWorld& world, const Rigid2d& robot_in_world, int beams = 181,
