@@ -67,7 +67,6 @@ std::optional<MergeEngine::TimedPose> MergeEngine::PoseAtTime(const std::string&
   const auto it = robots_.find(robot);
   if (it == robots_.end() || it->second->submaps.empty()) return std::nullopt;
   const RobotState& state = *it->second;
-  std::optional<Rigid2d> local = PoseAt(state.trajectory, time, options_.trajectory_max_gap);
   // The host is the submap whose scans span the time, else the one closest in time.
   int64_t host = -1;
   double best = 1e300;
@@ -79,10 +78,22 @@ std::optional<MergeEngine::TimedPose> MergeEngine::PoseAtTime(const std::string&
       best = gap;
       host = id;
     }
-    if (!local) local = PoseAt(submap.scan_poses, time, options_.trajectory_max_gap);
   }
-  if (!local || host < 0 || best > options_.source_time_window) return std::nullopt;
-  return TimedPose{host, state.submaps.at(host).submap_in_local.inverse() * *local};
+  if (host < 0 || best > options_.source_time_window) return std::nullopt;
+  // The pose comes from the host's own scan poses when they cover the time: they belong to the
+  // same revision as its anchor. The trajectory and the submaps are revised separately (a loop
+  // closure on the robot re-publishes the submaps it moved at once, the trajectory every few
+  // seconds), and a pose from one revision against an anchor from another moves the detection
+  // by the whole correction.
+  const Submap& hosting = state.submaps.at(host);
+  std::optional<Rigid2d> local = PoseAt(hosting.scan_poses, time, options_.trajectory_max_gap);
+  if (!local) local = PoseAt(state.trajectory, time, options_.trajectory_max_gap);
+  for (const auto& [id, submap] : state.submaps) {
+    if (local) break;
+    local = PoseAt(submap.scan_poses, time, options_.trajectory_max_gap);
+  }
+  if (!local) return std::nullopt;
+  return TimedPose{host, hosting.submap_in_local.inverse() * *local};
 }
 
 const MatchSource& MergeEngine::SubmapSource(const std::string& robot, int64_t submap_id) {

@@ -33,6 +33,27 @@ TEST(MergeEngineTest, DetectionsAlignAnyRelativeHeading) {
   }
 }
 
+// The trajectory and the submaps are revised separately: here b's trajectory is an older
+// revision, from before a loop closure moved its map by 0.5 m, while its submaps are already
+// the corrected ones. Detections are judged against the submap that hosts them, so b is still
+// placed within 3 cm.
+TEST(MergeEngineTest, DetectionsUseTheirHostSubmapsRevision) {
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  MergeEngine engine(TestOptions());
+  const SimRobot a = RobotA(), b = RobotB(-1.0);
+  Feed(world, a, &engine);
+  Feed(world, b, &engine);
+  Trajectory stale = testing::MakeTrajectory(b.path, b.local_in_world, kDt);
+  for (StampedPose& p : stale) p.pose = Rigid2d(0.5, -0.2, 0.0) * p.pose;
+  ASSERT_TRUE(engine.SetTrajectory("b", stale));
+  ASSERT_TRUE(engine.AddDetection(Detect(a, b, 20, false)));
+  ASSERT_TRUE(engine.AddDetection(Detect(a, b, 24, false)));
+  engine.Update();
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
+}
+
 // The observer only mapped the left room; the seen robot comes from the middle and right rooms
 // (most of its map lies beyond the observer's). Two detections without heading still align it.
 TEST(MergeEngineTest, DetectionsAlignWhenTheSeenMapReachesPastTheObserver) {
