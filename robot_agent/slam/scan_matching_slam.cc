@@ -6,6 +6,7 @@
 
 #include "robot_agent/slam/degeneracy.h"
 #include "robot_agent/slam/input_order.h"
+#include "robot_agent/slam/seen_surface_filter.h"
 #include "shared/matching/point_filter.h"
 
 namespace fleetmap {
@@ -104,10 +105,11 @@ std::vector<Eigen::Vector2f> ScanMatchingSlam::PointsInsideHorizon(const LaserSc
   return ToPointsInRobotFrame(inside);
 }
 
-Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& points,
+Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& all_points,
                                 const Rigid2d& predicted,
                                 const std::vector<Eigen::Vector2f>& beam_points) {
   const MatchGrid& target = local_map_.target();
+  const std::vector<Eigen::Vector2f>& points = all_points;
   ScanMatcherOptions options = options_.matcher;
   std::optional<ScanMatchResult> match;
   if (odometry_.empty()) {
@@ -129,6 +131,19 @@ Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& points,
     return predicted;
   }
   ++counters_.matched;
+  if (options_.max_unseen_surface_distance > 0.0 && !odometry_.empty()) {
+    // Refined again without the points on surfaces the map has not seen, judged at the match
+    // (not at the prediction: with poor odometry that would drop points of mapped walls).
+    const std::vector<Eigen::Vector2f> seen =
+        PointsOnSeenSurfaces(all_points, target, match->pose, options_.max_unseen_surface_distance);
+    if (seen.size() < all_points.size()) {
+      ScanMatcherOptions refine_only = options_.matcher;
+      refine_only.use_correlative_search = false;
+      const std::optional<ScanMatchResult> refined =
+          MatchScan(seen, target, nullptr, match->pose, predicted, refine_only);
+      if (refined) match = refined;
+    }
+  }
   if (options_.min_observed_normals > 0.0 && !odometry_.empty()) {
     const Rigid2d kept = KeepObservedDirections(predicted, match->pose, NormalScatter(beam_points),
                                                 options_.min_observed_normals);

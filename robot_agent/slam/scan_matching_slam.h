@@ -34,6 +34,13 @@ struct ScanMatchingSlamOptions {
   // first (bad odometry, e.g. a wheel slip in a turn).
   ScanMatcherOptions matcher = DefaultMatcherOptions();
   double search_below_score = 0.75;
+  // Each match is refined a second time without the points on surfaces the local map has not
+  // seen (seen_surface_filter.h), judged at the first match: farther than this (metres) from
+  // every mapped surface, in cells no scan observed. A box's far face coming into view as the
+  // robot turns round it was pulled onto the face beside it, and the map turned by ~1 degree per
+  // box. Judged at the odometry prediction instead, poor odometry (aces) dropped points of mapped
+  // walls. 0 turns the second refinement off; without odometry it does not run.
+  double max_unseen_surface_distance = 0.075;
   // A featureless corridor: where less than this share of the scan's surface normals (see
   // NormalScatter) faces a direction, the match keeps the odometry's translation along it.
   // 0 disables the check.
