@@ -88,9 +88,8 @@ std::optional<MergeEngine::TimedPose> MergeEngine::PoseAtTime(const std::string&
   const Submap& hosting = state.submaps.at(host);
   std::optional<Rigid2d> local = PoseAt(hosting.scan_poses, time, options_.trajectory_max_gap);
   if (!local) local = PoseAt(state.trajectory, time, options_.trajectory_max_gap);
-  for (const auto& [id, submap] : state.submaps) {
-    if (local) break;
-    local = PoseAt(submap.scan_poses, time, options_.trajectory_max_gap);
+  for (auto it = state.submaps.begin(); !local && it != state.submaps.end(); ++it) {
+    local = PoseAt(it->second.scan_poses, time, options_.trajectory_max_gap);
   }
   if (!local) return std::nullopt;
   return TimedPose{host, hosting.submap_in_local.inverse() * *local};

@@ -7,8 +7,8 @@
 
 namespace fleetmap {
 
-std::vector<Segment> SegmentScan(const LaserScan& scan, const LaserFusionOptions& options) {
-  std::vector<Segment> segments;
+std::vector<BeamRun> SplitIntoRuns(const LaserScan& scan, const LaserFusionOptions& options) {
+  std::vector<BeamRun> segments;
   int start = -1;
   Eigen::Vector2d previous = Eigen::Vector2d::Zero();
   for (int i = 0; i < scan.size(); ++i) {
@@ -37,9 +37,9 @@ BeamReturn BeamAt(const LaserScan& scan, int i) {
   return BeamReturn{Eigen::Vector2d(std::cos(a), std::sin(a)), scan.ranges[i]};
 }
 
-FusionStatus MeasureBody(const LaserScan& scan, Segment* measured, double body_radius,
+FusionStatus MeasureBody(const LaserScan& scan, BeamRun* measured, double body_radius,
                          const LaserFusionOptions& options, CircleFit* fit, int* returns) {
-  Segment& segment = *measured;
+  BeamRun& segment = *measured;
   std::vector<BeamReturn> beams;
   auto collect = [&]() {
     beams.clear();
@@ -68,7 +68,7 @@ FusionStatus MeasureBody(const LaserScan& scan, Segment* measured, double body_r
     return std::abs((BeamAt(scan, i).point() - circle->center).norm() - body_radius) <
            on_circle;
   };
-  const Segment before = segment;
+  const BeamRun before = segment;
   while (lies_on_circle(segment.first - 1)) --segment.first;
   while (lies_on_circle(segment.last + 1)) ++segment.last;
   if (segment.first != before.first || segment.last != before.last) {
@@ -114,10 +114,10 @@ std::vector<Eigen::Vector2d> FindLaserBodies(const LaserScan& scan, double body_
       scan.angle_increment == 0.0f || !scan.sensor_in_robot.IsFinite()) {
     return bodies;
   }
-  for (const Segment& segment : SegmentScan(scan, options.fusion)) {
+  for (const BeamRun& segment : SplitIntoRuns(scan, options.fusion)) {
     CircleFit fit;
     int returns = 0;
-    Segment body = segment;
+    BeamRun body = segment;
     if (MeasureBody(scan, &body, body_radius, options.fusion, &fit, &returns) !=
             FusionStatus::kConfirmed ||
         returns < options.min_returns ||

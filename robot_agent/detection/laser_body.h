@@ -12,14 +12,14 @@
 namespace fleetmap {
 
 // A run of consecutive returns that belong to one object.
-struct Segment {
+struct BeamRun {
   int first = 0;  // beam indices, inclusive
   int last = 0;
 };
 
 // Splits the scan into runs of returns that belong to one object: consecutive returns further
 // apart than max(min_jump, jump_beams * beam spacing) belong to different objects.
-std::vector<Segment> SegmentScan(const LaserScan& scan, const LaserFusionOptions& options);
+std::vector<BeamRun> SplitIntoRuns(const LaserScan& scan, const LaserFusionOptions& options);
 
 // The return of beam i as a direction and a range, in the sensor frame.
 BeamReturn BeamAt(const LaserScan& scan, int i);
@@ -28,7 +28,7 @@ BeamReturn BeamAt(const LaserScan& scan, int i);
 // front of its surroundings (or hidden on one side by something nearer), round rather than flat.
 // The segment may grow by neighbouring returns that lie on the fitted circle (it is updated);
 // `returns` is how many the fit used.
-FusionStatus MeasureBody(const LaserScan& scan, Segment* segment, double body_radius,
+FusionStatus MeasureBody(const LaserScan& scan, BeamRun* segment, double body_radius,
                          const LaserFusionOptions& options, CircleFit* fit, int* returns);
 
 struct LaserBodyOptions {

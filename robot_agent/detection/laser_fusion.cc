@@ -17,7 +17,7 @@ double AngleOf(const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); }
 
 // The segment where the candidate's body should be: among the objects inside the bearing window
 // the camera allows, the one whose range best matches the marker's apparent size.
-std::optional<Segment> FindBodySegment(const MarkerCandidate& candidate, const LaserScan& scan,
+std::optional<BeamRun> FindBodySegment(const MarkerCandidate& candidate, const LaserScan& scan,
                                        const CameraModel& camera, const MarkerGeometry& geometry,
                                        const LaserFusionOptions& options) {
   // The camera ray, sampled at the near and far ends of the size-based range, seen from the
@@ -40,9 +40,9 @@ std::optional<Segment> FindBodySegment(const MarkerCandidate& candidate, const L
   const double half_window = spread + half_body + options.bearing_margin;
   const double expected_range = size_point.norm() - geometry.body_radius;
 
-  std::optional<Segment> best;
+  std::optional<BeamRun> best;
   double best_error = 0.0;
-  for (const Segment& segment : SegmentScan(scan, options)) {
+  for (const BeamRun& segment : SplitIntoRuns(scan, options)) {
     double nearest = std::numeric_limits<double>::infinity();
     for (int i = segment.first; i <= segment.last; ++i) {
       if (std::abs(NormalizeAngle(scan.angle(i) - center_bearing)) <= half_window) {
@@ -86,7 +86,7 @@ FusionResult FuseWithLaser(const MarkerCandidate& candidate, const LaserScan& sc
     result.status = FusionStatus::kBadScan;
     return result;
   }
-  const std::optional<Segment> segment =
+  const std::optional<BeamRun> segment =
       FindBodySegment(candidate, scan, camera, geometry, options);
   if (!segment) {
     result.status = FusionStatus::kNoReturnsNearBearing;
@@ -94,7 +94,7 @@ FusionResult FuseWithLaser(const MarkerCandidate& candidate, const LaserScan& sc
   }
   CircleFit fit;
   int returns = 0;
-  Segment body = *segment;
+  BeamRun body = *segment;
   result.status = MeasureBody(scan, &body, geometry.body_radius, options, &fit, &returns);
   if (result.status != FusionStatus::kConfirmed) return result;
 

@@ -105,11 +105,10 @@ std::vector<Eigen::Vector2f> ScanMatchingSlam::PointsInsideHorizon(const LaserSc
   return ToPointsInRobotFrame(inside);
 }
 
-Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& all_points,
+Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& points,
                                 const Rigid2d& predicted,
                                 const std::vector<Eigen::Vector2f>& beam_points) {
   const MatchGrid& target = local_map_.target();
-  const std::vector<Eigen::Vector2f>& points = all_points;
   ScanMatcherOptions options = options_.matcher;
   std::optional<ScanMatchResult> match;
   if (odometry_.empty()) {
@@ -135,8 +134,8 @@ Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& all_points,
     // Refined again without the points on surfaces the map has not seen, judged at the match
     // (not at the prediction: with poor odometry that would drop points of mapped walls).
     const std::vector<Eigen::Vector2f> seen =
-        PointsOnSeenSurfaces(all_points, target, match->pose, options_.max_unseen_surface_distance);
-    if (seen.size() < all_points.size()) {
+        PointsOnSeenSurfaces(points, target, match->pose, options_.max_unseen_surface_distance);
+    if (seen.size() < points.size()) {
       ScanMatcherOptions refine_only = options_.matcher;
       refine_only.use_correlative_search = false;
       const std::optional<ScanMatchResult> refined =
