@@ -1,5 +1,6 @@
 #include "robot_agent/slam/seen_robot_mask.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace fleetmap {
@@ -28,7 +29,10 @@ void SeenRobotMask::AddLaserBodies(double time, const std::vector<Eigen::Vector2
 }
 
 bool SeenRobotMask::OdometryAt(double time, Rigid2d* pose) const {
-  if (odometry_.empty() || time < odometry_.front().first || time > odometry_.back().first) return false;
+  if (odometry_.empty() || time < odometry_.front().first ||
+      time > odometry_.back().first + options_.max_odometry_gap) {
+    return false;
+  }
   for (size_t i = 1; i < odometry_.size(); ++i) {
     if (odometry_[i].first < time) continue;
     const auto& [t0, p0] = odometry_[i - 1];
@@ -44,6 +48,8 @@ bool SeenRobotMask::OdometryAt(double time, Rigid2d* pose) const {
 int SeenRobotMask::Apply(LaserScan* scan) const {
   Rigid2d now;
   if (empty() || !OdometryAt(scan->timestamp, &now)) return 0;
+  // Our own motion since the latest odometry reading, when the scan is newer than it.
+  const double own_motion = options_.max_speed * std::max(0.0, scan->timestamp - odometry_.back().first);
   struct Disk {
     Eigen::Vector2d center;  // in the sensor frame at the scan
     double radius;
@@ -55,7 +61,7 @@ int SeenRobotMask::Apply(LaserScan* scan) const {
     Rigid2d then;
     if (age < 0.0 || age > max_age || !OdometryAt(time, &then)) return;
     const Eigen::Vector2d in_robot = now.inverse() * then * center;
-    disks.push_back({scan->sensor_in_robot.inverse() * in_robot, options_.robot_radius + options_.max_speed * age});
+    disks.push_back({scan->sensor_in_robot.inverse() * in_robot, options_.robot_radius + options_.max_speed * age + own_motion});
   };
   for (const auto& [robot, d] : seen_) add_disk(d.timestamp, d.position_in_observer, options_.max_age);
   for (const auto& [time, center] : laser_bodies_) add_disk(time, center, options_.max_laser_body_age);

@@ -25,6 +25,11 @@ struct SeenRobotMaskOptions {
   // Bodies the laser alone found (AddLaserBodies) mask this long; a body the finder misses in
   // one scan (half hidden, too few returns) stays masked from the scans before.
   double max_laser_body_age = 0.3;
+  // A scan can arrive before the odometry reading that covers its time (odometry and laser at
+  // different rates: in the simulator two scans in three did, and went unmasked). Up to this
+  // long (seconds) after the latest reading our pose is taken as that reading's, and the disks
+  // grow by max_speed times the gap for our own motion since.
+  double max_odometry_gap = 0.25;
 };
 
 // Keeps the returns off other robots out of local SLAM: a robot seen by the camera (a detection:
@@ -51,7 +56,8 @@ class SeenRobotMask {
   bool empty() const { return seen_.empty() && laser_bodies_.empty(); }
 
  private:
-  // Odometry at `time` (linear between readings); nothing outside the readings kept.
+  // Odometry at `time` (linear between readings; the latest reading up to max_odometry_gap
+  // after it); nothing before the readings kept or farther after them.
   bool OdometryAt(double time, Rigid2d* pose) const;
 
   SeenRobotMaskOptions options_;
