@@ -1,6 +1,7 @@
 // fleetmap-merge-sim-bench: simulator scenarios (unknown start poses) through local SLAM and
 // the MergeEngine in one process (no gRPC): relative transform error per robot pair, merged map
 // vs the true world, false merges and the time to fold data in; with and without detections.
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,13 +10,12 @@
 #include <map>
 #include <random>
 
-#include <CLI/CLI.hpp>
-
+#include "map_server/bench/merge_sim_scoring.h"
 #include "map_server/merge/merge_engine.h"
+#include "robot_agent/detection/laser_body.h"
 #include "robot_agent/sim/scenario.h"
 #include "robot_agent/sim/simulation.h"
 #include "robot_agent/slam/backend_factory.h"
-#include "robot_agent/detection/laser_body.h"
 #include "robot_agent/slam/seen_robot_mask.h"
 
 namespace fleetmap {
@@ -37,64 +37,6 @@ struct BenchOptions {
   LaserBodyOptions laser_bodies;
 };
 
-struct RunResult {
-  std::vector<std::string> lines;
-  int pairs = 0;
-  int placed_pairs = 0;
-  int false_merges = 0;
-  int64_t masked_returns = 0;  // laser returns off seen robots kept out of local SLAM
-  int64_t laser_bodies = 0;    // round bodies the laser alone found
-  int64_t laser_bodies_on_robots = 0;  // of those, within 0.3 m of another robot's true centre
-  // Submaps of different robots whose true anchors are within kNearSubmaps: their relative pose
-  // in the merged graph against the truth (local consistency of the merge, without the drift
-  // accumulated since the robots' starts).
-  int near_pairs = 0;
-  int near_pairs_off = 0;  // beyond the false-merge thresholds
-  double near_median_translation = 0.0;
-  double near_max_translation = 0.0;
-  double near_median_rotation = 0.0;
-  double near_max_rotation = 0.0;
-  double max_translation = 0.0;
-  double max_rotation = 0.0;
-  double map_accuracy = 0.0;
-  double median_update_ms = 0.0;
-  double max_update_ms = 0.0;
-  double median_fold_ms = 0.0;  // per submap folded in
-  int submaps = 0;
-  double sim_seconds = 0.0;
-};
-
-constexpr double kNearSubmaps = 8.0;  // metres between true submap anchors
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-// Occupied cells of the merged map (global = the reference robot's local frame) within one
-// cell of a true wall, once placed in the world with the reference robot's true start.
-double MapAccuracy(const OccupancyGrid& grid, const Rigid2d& global_in_world,
-                   const sim::World& world) {
-  int64_t occupied = 0, near_wall = 0;
-  const double r = world.resolution();
-  for (int y = 0; y < grid.height(); ++y) {
-    for (int x = 0; x < grid.width(); ++x) {
-      if (grid.LogOdds(CellIndex(x, y)) <= 0.0f) continue;
-      ++occupied;
-      const Eigen::Vector2d p = global_in_world * grid.CellCenter(CellIndex(x, y));
-      bool hit = false;
-      for (int dy = -1; dy <= 1 && !hit; ++dy) {
-        for (int dx = -1; dx <= 1 && !hit; ++dx) {
-          hit = world.IsBlockedAt(p + Eigen::Vector2d(dx * r, dy * r));
-        }
-      }
-      near_wall += hit;
-    }
-  }
-  return occupied > 0 ? static_cast<double>(near_wall) / occupied : 0.0;
-}
-
 bool Run(const std::string& scenario, const BenchOptions& options, RunResult* result,
          std::string* error) {
   std::unique_ptr<sim::Simulation> sim = sim::Simulation::FromFile(scenario, error, false);
@@ -108,14 +50,13 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
     slams.push_back(MakeLocalSlam(choice, error));
     if (!slams.back()) return false;
   }
-  std::vector<std::optional<Rigid2d>> local_in_world(n);  // truth: the pose at the first scan
+  RunTruth run_truth;
+  for (const auto& info : infos) run_truth.names.push_back(info.name);
+  run_truth.local_in_world.resize(n);
+  run_truth.first_submap_in_local.resize(n);
+  run_truth.at_scan.resize(n);
   std::map<std::string, size_t> index;
   for (size_t i = 0; i < n; ++i) index[infos[i].name] = i;
-  std::vector<std::optional<Rigid2d>> first_submap_in_local(n);  // of submap 0, as local SLAM left it
-  std::vector<std::map<double, Rigid2d>> truth_at_scan(n);  // robot in world, by scan time
-  // Per submap (latest revision): the anchor relative to the submap's first scan pose, and
-  // that scan's time; with the truth at that time this gives the anchor's true pose.
-  std::map<NodeId, std::pair<Rigid2d, double>> anchors;
   std::map<std::pair<int, int>, double> last_detection;
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, options.detection_sigma);
@@ -131,9 +72,9 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
       if (last) slams[i]->Finish();
       for (const Submap& submap : slams[i]->TakeSubmapUpdates()) {
         new_submaps += submap.finished;
-        if (submap.submap_id == 0) first_submap_in_local[i] = submap.submap_in_local;
+        if (submap.submap_id == 0) run_truth.first_submap_in_local[i] = submap.submap_in_local;
         if (!submap.scan_poses.empty()) {
-          anchors[NodeId{infos[i].name, submap.submap_id}] = {
+          run_truth.anchors[NodeId{infos[i].name, submap.submap_id}] = {
               submap.scan_poses.front().pose.inverse() * submap.submap_in_local,
               submap.scan_poses.front().timestamp};
         }
@@ -151,18 +92,22 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
         // How far the evidence's estimate is from the truth (start frames; includes drift).
         std::string truth_error;
         const auto a = index.find(e.robot_a), b = index.find(e.robot_b);
-        if (e.local_b_in_local_a && a != index.end() && b != index.end() && local_in_world[a->second] &&
-            local_in_world[b->second]) {
-          const Rigid2d diff = (local_in_world[a->second]->inverse() * *local_in_world[b->second]).inverse() *
+        if (e.local_b_in_local_a && a != index.end() && b != index.end() &&
+            run_truth.local_in_world[a->second] && run_truth.local_in_world[b->second]) {
+          const Rigid2d diff = (run_truth.local_in_world[a->second]->inverse() *
+                                *run_truth.local_in_world[b->second])
+                                   .inverse() *
                                *e.local_b_in_local_a;
           char text[80];
-          std::snprintf(text, sizeof(text), " [vs truth %.2f m, %.2f deg]", diff.translation().norm(),
+          std::snprintf(text, sizeof(text), " [vs truth %.2f m, %.2f deg]",
+                        diff.translation().norm(),
                         std::abs(NormalizeAngle(diff.rotation())) * 180.0 / M_PI);
           truth_error = text;
         }
-        std::printf("    t=%.0f %s %s/%s score %.3f amb %.3f overlap %.3f%s: %s\n", result->sim_seconds,
-                    AlignmentEventTypeName(e.type), e.robot_a.c_str(), e.robot_b.c_str(), e.score,
-                    e.ambiguity, e.overlap, truth_error.c_str(), e.reason.c_str());
+        std::printf("    t=%.0f %s %s/%s score %.3f amb %.3f overlap %.3f%s: %s\n",
+                    result->sim_seconds, AlignmentEventTypeName(e.type), e.robot_a.c_str(),
+                    e.robot_b.c_str(), e.score, e.ambiguity, e.overlap, truth_error.c_str(),
+                    e.reason.c_str());
       }
     }
     const double ms =
@@ -188,16 +133,19 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
         masks[i].AddOdometry(packet.odometry->timestamp, packet.odometry->robot_pose);
       }
       if (packet.laser) {
-        if (!local_in_world[i]) local_in_world[i] = packet.ground_truth;
-        truth_at_scan[i][packet.laser->scan.timestamp] = packet.ground_truth;
+        if (!run_truth.local_in_world[i]) run_truth.local_in_world[i] = packet.ground_truth;
+        run_truth.at_scan[i][packet.laser->scan.timestamp] = packet.ground_truth;
         latest_truth[i] = packet.ground_truth;
         if (options.mask_laser_bodies) {
-          const std::vector<Eigen::Vector2d> bodies = FindLaserBodies(packet.laser->scan, body_radius, options.laser_bodies);
+          const std::vector<Eigen::Vector2d> bodies =
+              FindLaserBodies(packet.laser->scan, body_radius, options.laser_bodies);
           for (const Eigen::Vector2d& body : bodies) {
             ++result->laser_bodies;
             bool on_robot = false;
             for (size_t j = 0; j < n && !on_robot; ++j) {
-              on_robot = j != i && (latest_truth[i].inverse() * latest_truth[j].translation() - body).norm() < 0.3;
+              on_robot =
+                  j != i &&
+                  (latest_truth[i].inverse() * latest_truth[j].translation() - body).norm() < 0.3;
             }
             result->laser_bodies_on_robots += on_robot;
           }
@@ -211,7 +159,9 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
     }
     if (options.detections) {
       for (const sim::VisibilityRecord& v : step.visibility) {
-        if (!v.visible || !local_in_world[v.observer] || !local_in_world[v.observed]) continue;
+        if (!v.visible || !run_truth.local_in_world[v.observer] ||
+            !run_truth.local_in_world[v.observed])
+          continue;
         RobotDetection seen;
         seen.observer_id = infos[v.observer].name;
         seen.observed_id = infos[v.observed].name;
@@ -225,14 +175,14 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
         d.observer_id = infos[v.observer].name;
         d.observed_id = infos[v.observed].name;
         d.timestamp = step.timestamp;
-        d.position_in_observer =
-            v.relative.translation() + Eigen::Vector2d(noise(rng), noise(rng));
+        d.position_in_observer = v.relative.translation() + Eigen::Vector2d(noise(rng), noise(rng));
         if (uniform(outlier_rng) < options.outlier_fraction) {
-          const double angle = 2.0 * M_PI * uniform(outlier_rng), distance = 1.0 + 4.0 * uniform(outlier_rng);
+          const double angle = 2.0 * M_PI * uniform(outlier_rng),
+                       distance = 1.0 + 4.0 * uniform(outlier_rng);
           d.position_in_observer += distance * Eigen::Vector2d(std::cos(angle), std::sin(angle));
         }
-        d.covariance = Eigen::Matrix2d::Identity() * options.detection_sigma *
-                       options.detection_sigma;
+        d.covariance =
+            Eigen::Matrix2d::Identity() * options.detection_sigma * options.detection_sigma;
         pending_detections.push_back(d);
       }
     }
@@ -246,94 +196,23 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
   // Local SLAM drift: the final pose against the truth, through the start.
   for (size_t i = 0; i < n; ++i) {
     const Trajectory& t = slams[i]->trajectory();
-    if (t.empty() || !local_in_world[i]) continue;
-    const Rigid2d end = *local_in_world[i] * t.back().pose;
+    if (t.empty() || !run_truth.local_in_world[i]) continue;
+    const Rigid2d end = *run_truth.local_in_world[i] * t.back().pose;
     const Rigid2d truth = sim->TruePoses()[i];
     char line[200];
-    std::snprintf(line, sizeof(line), "  %s local SLAM end-pose error %.3f m, %.2f deg (first pose %.3f %.3f %.3f)",
+    std::snprintf(line, sizeof(line),
+                  "  %s local SLAM end-pose error %.3f m, %.2f deg (first pose %.3f %.3f %.3f)",
                   infos[i].name.c_str(), (end.translation() - truth.translation()).norm(),
                   std::abs(NormalizeAngle(end.rotation() - truth.rotation())) * 180.0 / M_PI,
                   t.front().pose.translation().x(), t.front().pose.translation().y(),
                   t.front().pose.rotation());
     result->lines.push_back(line);
   }
-  // Relative transforms between every pair of robots' start frames against the truth. A start
-  // frame is placed where the merged graph put the robot's first submap: RobotToGlobal() frames
-  // the robot by its latest submap, so it also carries the local SLAM drift since the start
-  // (printed for reference).
-  const std::map<NodeId, Rigid2d> poses = engine.SubmapPoses();
-  const auto start_in_global = [&](size_t i) -> std::optional<Rigid2d> {
-    const auto it = poses.find(NodeId{infos[i].name, 0});
-    if (it == poses.end() || !first_submap_in_local[i]) return std::nullopt;
-    return it->second * first_submap_in_local[i]->inverse();
-  };
-  for (size_t a = 0; a < n; ++a) {
-    for (size_t b = a + 1; b < n; ++b) {
-      ++result->pairs;
-      const auto ga = start_in_global(a);
-      const auto gb = start_in_global(b);
-      const auto la = engine.RobotToGlobal(infos[a].name);
-      const auto lb = engine.RobotToGlobal(infos[b].name);
-      char line[256];
-      if (!ga || !gb || !la || !lb || !local_in_world[a] || !local_in_world[b]) {
-        std::snprintf(line, sizeof(line), "  %s-%s: not merged", infos[a].name.c_str(),
-                      infos[b].name.c_str());
-        result->lines.push_back(line);
-        continue;
-      }
-      ++result->placed_pairs;
-      const Rigid2d estimated = ga->inverse() * *gb;
-      const Rigid2d truth = local_in_world[a]->inverse() * *local_in_world[b];
-      const Rigid2d diff = truth.inverse() * estimated;
-      const double t = diff.translation().norm();
-      const double r = std::abs(NormalizeAngle(diff.rotation()));
-      if (t > options.false_translation || r > options.false_rotation) ++result->false_merges;
-      result->max_translation = std::max(result->max_translation, t);
-      result->max_rotation = std::max(result->max_rotation, r);
-      const Rigid2d latest = truth.inverse() * (la->inverse() * *lb);
-      std::snprintf(line, sizeof(line), "  %s-%s: %.3f m, %.3f deg (latest submaps' frames: %.3f m, %.3f deg)",
-                    infos[a].name.c_str(), infos[b].name.c_str(), t, r * 180.0 / M_PI,
-                    latest.translation().norm(), std::abs(NormalizeAngle(latest.rotation())) * 180.0 / M_PI);
-      result->lines.push_back(line);
-    }
-  }
-  // Local consistency: nearby submaps of different robots.
-  std::vector<std::pair<NodeId, Rigid2d>> true_anchors;  // placed submaps' true anchors in the world
-  for (const auto& [id, pose] : poses) {
-    const auto anchor = anchors.find(id);
-    if (anchor == anchors.end()) continue;
-    const auto& truth = truth_at_scan[index.at(id.robot)];
-    const auto t = truth.find(anchor->second.second);
-    if (t == truth.end()) continue;
-    true_anchors.emplace_back(id, t->second * anchor->second.first);
-  }
-  std::vector<double> near_t, near_r;
-  for (size_t i = 0; i < true_anchors.size(); ++i) {
-    for (size_t j = i + 1; j < true_anchors.size(); ++j) {
-      const auto& [id_i, true_i] = true_anchors[i];
-      const auto& [id_j, true_j] = true_anchors[j];
-      if (id_i.robot == id_j.robot || (true_i.translation() - true_j.translation()).norm() > kNearSubmaps) continue;
-      const Rigid2d diff = (true_i.inverse() * true_j).inverse() * (poses.at(id_i).inverse() * poses.at(id_j));
-      near_t.push_back(diff.translation().norm());
-      near_r.push_back(std::abs(NormalizeAngle(diff.rotation())));
-      result->near_pairs_off += near_t.back() > options.false_translation || near_r.back() > options.false_rotation;
-    }
-  }
-  result->near_pairs = static_cast<int>(near_t.size());
-  if (!near_t.empty()) {
-    result->near_median_translation = Median(near_t);
-    result->near_max_translation = *std::max_element(near_t.begin(), near_t.end());
-    result->near_median_rotation = Median(near_r);
-    result->near_max_rotation = *std::max_element(near_r.begin(), near_r.end());
-  }
-  const std::string& reference = engine.reference_robot();
-  for (size_t i = 0; i < n; ++i) {
-    if (infos[i].name != reference || !local_in_world[i]) continue;
-    const auto grid = engine.RenderGlobalMap(std::nullopt, 0.05, error);
-    if (grid) result->map_accuracy = MapAccuracy(*grid, *local_in_world[i], sim->world());
-  }
+  ScoreMerge(engine, run_truth, sim->world(), options.false_translation, options.false_rotation,
+             result, error);
   result->median_update_ms = Median(update_ms);
-  result->max_update_ms = update_ms.empty() ? 0.0 : *std::max_element(update_ms.begin(), update_ms.end());
+  result->max_update_ms =
+      update_ms.empty() ? 0.0 : *std::max_element(update_ms.begin(), update_ms.end());
   result->median_fold_ms = Median(fold_ms);
   return true;
 }
@@ -357,17 +236,21 @@ int main(int argc, char** argv) {
   app.add_option("--outliers", options.outlier_fraction,
                  "fraction of detections corrupted (moved by 1-5 m in a random direction)")
       ->capture_default_str();
-  app.add_flag("--no-mask", [&](int64_t) { options.mask_seen_robots = false; },
-               "with detections: do not mask the returns off seen robots before local SLAM");
-  app.add_flag("--laser-bodies", options.mask_laser_bodies,
-               "also mask the returns off round bodies the laser alone finds (with or without detections)");
+  app.add_flag(
+      "--no-mask", [&](int64_t) { options.mask_seen_robots = false; },
+      "with detections: do not mask the returns off seen robots before local SLAM");
+  app.add_flag(
+      "--laser-bodies", options.mask_laser_bodies,
+      "also mask the returns off round bodies the laser alone finds (with or without detections)");
   app.add_option("--laser-body-min-returns", options.laser_bodies.min_returns,
                  "fewest returns a round body found by the laser alone must have")
       ->capture_default_str();
-  app.add_option("--odometry-sigma-per-metre", options.engine.odometry_translation_sigma_per_metre,
-                 "merge engine: translation sigma of consecutive-submap edges per metre between them")
+  app.add_option(
+         "--odometry-sigma-per-metre", options.engine.odometry_translation_sigma_per_metre,
+         "merge engine: translation sigma of consecutive-submap edges per metre between them")
       ->capture_default_str();
-  app.add_option("--odometry-rotation-sigma-per-metre", options.engine.odometry_rotation_sigma_per_metre,
+  app.add_option("--odometry-rotation-sigma-per-metre",
+                 options.engine.odometry_rotation_sigma_per_metre,
                  "merge engine: rotation sigma (rad) of consecutive-submap edges per metre")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -393,7 +276,8 @@ int main(int argc, char** argv) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       for (const auto& line : result.lines) std::cout << line << "\n";
       std::printf(
-          "  nearby submaps of different robots (true anchors within %.0f m): %d pairs, median %.3f m / "
+          "  nearby submaps of different robots (true anchors within %.0f m): %d pairs, median "
+          "%.3f m / "
           "%.3f deg, max %.3f m / %.3f deg, %d beyond the false-merge thresholds\n",
           fleetmap::kNearSubmaps, result.near_pairs, result.near_median_translation,
           result.near_median_rotation * 180.0 / M_PI, result.near_max_translation,
@@ -405,8 +289,8 @@ int main(int argc, char** argv) {
           "(%lld within 0.3 m of another robot)\n",
           result.placed_pairs, result.pairs, result.false_merges, result.max_translation,
           result.max_rotation * 180.0 / M_PI, 100.0 * result.map_accuracy, result.submaps,
-          result.median_update_ms, result.max_update_ms, result.median_fold_ms,
-          result.sim_seconds, wall, static_cast<long long>(result.masked_returns),
+          result.median_update_ms, result.max_update_ms, result.median_fold_ms, result.sim_seconds,
+          wall, static_cast<long long>(result.masked_returns),
           static_cast<long long>(result.laser_bodies),
           static_cast<long long>(result.laser_bodies_on_robots));
       std::fflush(stdout);

@@ -1,0 +1,124 @@
+#include "map_server/bench/merge_sim_scoring.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace fleetmap {
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+double MapAccuracy(const OccupancyGrid& grid, const Rigid2d& global_in_world,
+                   const sim::World& world) {
+  int64_t occupied = 0, near_wall = 0;
+  const double r = world.resolution();
+  for (int y = 0; y < grid.height(); ++y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      if (grid.LogOdds(CellIndex(x, y)) <= 0.0f) continue;
+      ++occupied;
+      const Eigen::Vector2d p = global_in_world * grid.CellCenter(CellIndex(x, y));
+      bool hit = false;
+      for (int dy = -1; dy <= 1 && !hit; ++dy) {
+        for (int dx = -1; dx <= 1 && !hit; ++dx) {
+          hit = world.IsBlockedAt(p + Eigen::Vector2d(dx * r, dy * r));
+        }
+      }
+      near_wall += hit;
+    }
+  }
+  return occupied > 0 ? static_cast<double>(near_wall) / occupied : 0.0;
+}
+
+void ScoreMerge(const MergeEngine& engine, const RunTruth& w, const sim::World& world,
+                double false_translation, double false_rotation, RunResult* result,
+                std::string* error) {
+  std::map<std::string, size_t> index;
+  for (size_t i = 0; i < w.names.size(); ++i) index[w.names[i]] = i;
+  // Relative transforms between every pair of robots' start frames against the truth. A start
+  // frame is placed where the merged graph put the robot's first submap: RobotToGlobal() frames
+  // the robot by its latest submap, so it also carries the local SLAM drift since the start
+  // (printed for reference).
+  const std::map<NodeId, Rigid2d> poses = engine.SubmapPoses();
+  const auto start_in_global = [&](size_t i) -> std::optional<Rigid2d> {
+    const auto it = poses.find(NodeId{w.names[i], 0});
+    if (it == poses.end() || !w.first_submap_in_local[i]) return std::nullopt;
+    return it->second * w.first_submap_in_local[i]->inverse();
+  };
+  for (size_t a = 0; a < w.names.size(); ++a) {
+    for (size_t b = a + 1; b < w.names.size(); ++b) {
+      ++result->pairs;
+      const auto ga = start_in_global(a);
+      const auto gb = start_in_global(b);
+      const auto la = engine.RobotToGlobal(w.names[a]);
+      const auto lb = engine.RobotToGlobal(w.names[b]);
+      char line[256];
+      if (!ga || !gb || !la || !lb || !w.local_in_world[a] || !w.local_in_world[b]) {
+        std::snprintf(line, sizeof(line), "  %s-%s: not merged", w.names[a].c_str(),
+                      w.names[b].c_str());
+        result->lines.push_back(line);
+        continue;
+      }
+      ++result->placed_pairs;
+      const Rigid2d estimated = ga->inverse() * *gb;
+      const Rigid2d truth = w.local_in_world[a]->inverse() * *w.local_in_world[b];
+      const Rigid2d diff = truth.inverse() * estimated;
+      const double t = diff.translation().norm();
+      const double r = std::abs(NormalizeAngle(diff.rotation()));
+      if (t > false_translation || r > false_rotation) ++result->false_merges;
+      result->max_translation = std::max(result->max_translation, t);
+      result->max_rotation = std::max(result->max_rotation, r);
+      const Rigid2d latest = truth.inverse() * (la->inverse() * *lb);
+      std::snprintf(line, sizeof(line),
+                    "  %s-%s: %.3f m, %.3f deg (latest submaps' frames: %.3f m, %.3f deg)",
+                    w.names[a].c_str(), w.names[b].c_str(), t, r * 180.0 / M_PI,
+                    latest.translation().norm(),
+                    std::abs(NormalizeAngle(latest.rotation())) * 180.0 / M_PI);
+      result->lines.push_back(line);
+    }
+  }
+  // Local consistency: nearby submaps of different robots.
+  std::vector<std::pair<NodeId, Rigid2d>>
+      true_anchors;  // placed submaps' true anchors in the world
+  for (const auto& [id, pose] : poses) {
+    const auto anchor = w.anchors.find(id);
+    if (anchor == w.anchors.end()) continue;
+    const auto& truth = w.at_scan[index.at(id.robot)];
+    const auto t = truth.find(anchor->second.second);
+    if (t == truth.end()) continue;
+    true_anchors.emplace_back(id, t->second * anchor->second.first);
+  }
+  std::vector<double> near_t, near_r;
+  for (size_t i = 0; i < true_anchors.size(); ++i) {
+    for (size_t j = i + 1; j < true_anchors.size(); ++j) {
+      const auto& [id_i, true_i] = true_anchors[i];
+      const auto& [id_j, true_j] = true_anchors[j];
+      if (id_i.robot == id_j.robot ||
+          (true_i.translation() - true_j.translation()).norm() > kNearSubmaps)
+        continue;
+      const Rigid2d diff =
+          (true_i.inverse() * true_j).inverse() * (poses.at(id_i).inverse() * poses.at(id_j));
+      near_t.push_back(diff.translation().norm());
+      near_r.push_back(std::abs(NormalizeAngle(diff.rotation())));
+      result->near_pairs_off += near_t.back() > false_translation || near_r.back() > false_rotation;
+    }
+  }
+  result->near_pairs = static_cast<int>(near_t.size());
+  if (!near_t.empty()) {
+    result->near_median_translation = Median(near_t);
+    result->near_max_translation = *std::max_element(near_t.begin(), near_t.end());
+    result->near_median_rotation = Median(near_r);
+    result->near_max_rotation = *std::max_element(near_r.begin(), near_r.end());
+  }
+  const std::string& reference = engine.reference_robot();
+  for (size_t i = 0; i < w.names.size(); ++i) {
+    if (w.names[i] != reference || !w.local_in_world[i]) continue;
+    const auto grid = engine.RenderGlobalMap(std::nullopt, 0.05, error);
+    if (grid) result->map_accuracy = MapAccuracy(*grid, *w.local_in_world[i], world);
+  }
+}
+
+}  // namespace fleetmap

@@ -1,0 +1,73 @@
+#ifndef FLEETMAP_MAP_SERVER_BENCH_MERGE_SIM_SCORING_H_
+#define FLEETMAP_MAP_SERVER_BENCH_MERGE_SIM_SCORING_H_
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "map_server/merge/merge_engine.h"
+#include "robot_agent/sim/world.h"
+#include "shared/core/rigid2d.h"
+
+namespace fleetmap {
+
+struct RunResult {
+  std::vector<std::string> lines;
+  int pairs = 0;
+  int placed_pairs = 0;
+  int false_merges = 0;
+  int64_t masked_returns = 0;          // laser returns off seen robots kept out of local SLAM
+  int64_t laser_bodies = 0;            // round bodies the laser alone found
+  int64_t laser_bodies_on_robots = 0;  // of those, within 0.3 m of another robot's true centre
+  // Submaps of different robots whose true anchors are within kNearSubmaps: their relative pose
+  // in the merged graph against the truth (local consistency of the merge, without the drift
+  // accumulated since the robots' starts).
+  int near_pairs = 0;
+  int near_pairs_off = 0;  // beyond the false-merge thresholds
+  double near_median_translation = 0.0;
+  double near_max_translation = 0.0;
+  double near_median_rotation = 0.0;
+  double near_max_rotation = 0.0;
+  double max_translation = 0.0;
+  double max_rotation = 0.0;
+  double map_accuracy = 0.0;
+  double median_update_ms = 0.0;
+  double max_update_ms = 0.0;
+  double median_fold_ms = 0.0;  // per submap folded in
+  int submaps = 0;
+  double sim_seconds = 0.0;
+};
+
+constexpr double kNearSubmaps = 8.0;  // metres between true submap anchors
+
+double Median(std::vector<double> v);
+// Occupied cells of the merged map (global = the reference robot's local frame) within one
+// cell of a true wall, once placed in the world with the reference robot's true start.
+double MapAccuracy(const OccupancyGrid& grid, const Rigid2d& global_in_world,
+                   const sim::World& world);
+
+// What the simulator knows about a run, for scoring the merge against it.
+struct RunTruth {
+  std::vector<std::string> names;                      // robots, in simulator order
+  std::vector<std::optional<Rigid2d>> local_in_world;  // each robot's pose at its first scan
+  std::vector<std::optional<Rigid2d>>
+      first_submap_in_local;                       // submap 0's anchor, as local SLAM left it
+  std::vector<std::map<double, Rigid2d>> at_scan;  // robot in world, by scan time
+  // Per submap (latest revision): the anchor relative to the submap's first scan pose, and
+  // that scan's time; with the truth at that time this gives the anchor's true pose.
+  std::map<NodeId, std::pair<Rigid2d, double>> anchors;
+};
+
+// Scores the engine's merge against the truth: relative transforms of every robot pair's start
+// frames (a pair further off than the thresholds is a false merge), the local consistency of
+// nearby submaps of different robots, and the merged map against the world's walls.
+void ScoreMerge(const MergeEngine& engine, const RunTruth& truth, const sim::World& world,
+                double false_translation, double false_rotation, RunResult* result,
+                std::string* error);
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_MAP_SERVER_BENCH_MERGE_SIM_SCORING_H_
