@@ -4,33 +4,14 @@
 #include <cmath>
 #include <cstdio>
 
+#include "robot_agent/sim/map_accuracy.h"
+
 namespace fleetmap {
 
 double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
-}
-
-double MapAccuracy(const OccupancyGrid& grid, const Rigid2d& global_in_world,
-                   const sim::World& world) {
-  int64_t occupied = 0, near_wall = 0;
-  const double r = world.resolution();
-  for (int y = 0; y < grid.height(); ++y) {
-    for (int x = 0; x < grid.width(); ++x) {
-      if (grid.LogOdds(CellIndex(x, y)) <= 0.0f) continue;
-      ++occupied;
-      const Eigen::Vector2d p = global_in_world * grid.CellCenter(CellIndex(x, y));
-      bool hit = false;
-      for (int dy = -1; dy <= 1 && !hit; ++dy) {
-        for (int dx = -1; dx <= 1 && !hit; ++dx) {
-          hit = world.IsBlockedAt(p + Eigen::Vector2d(dx * r, dy * r));
-        }
-      }
-      near_wall += hit;
-    }
-  }
-  return occupied > 0 ? static_cast<double>(near_wall) / occupied : 0.0;
 }
 
 void ScoreMerge(const MergeEngine& engine, const RunTruth& w, const sim::World& world,
@@ -117,7 +98,7 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& w, const sim::World& 
   for (size_t i = 0; i < w.names.size(); ++i) {
     if (w.names[i] != reference || !w.local_in_world[i]) continue;
     const auto grid = engine.RenderGlobalMap(std::nullopt, 0.05, error);
-    if (grid) result->map_accuracy = MapAccuracy(*grid, *w.local_in_world[i], world);
+    if (grid) result->map_accuracy = sim::ScoreAgainstWalls(*grid, *w.local_in_world[i], world).fraction();
   }
 }
 

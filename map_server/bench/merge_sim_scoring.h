@@ -44,11 +44,6 @@ struct RunResult {
 constexpr double kNearSubmaps = 8.0;  // metres between true submap anchors
 
 double Median(std::vector<double> v);
-// Occupied cells of the merged map (global = the reference robot's local frame) within one
-// cell of a true wall, once placed in the world with the reference robot's true start.
-double MapAccuracy(const OccupancyGrid& grid, const Rigid2d& global_in_world,
-                   const sim::World& world);
-
 // What the simulator knows about a run, for scoring the merge against it.
 struct RunTruth {
   std::vector<std::string> names;                      // robots, in simulator order

@@ -20,6 +20,7 @@
 
 #include "proto/fleetmap/v1/fleetmap.grpc.pb.h"
 #include "map_server/server/conversions.h"
+#include "robot_agent/sim/map_accuracy.h"
 #include "robot_agent/sim/simulation.h"
 #include "shared/codec/grid_codec.h"
 #include "tests/merge_e2e/merge_e2e_process.h"
@@ -177,25 +178,11 @@ class MergeE2eTest : public ::testing::Test {
         << error;
     const Rigid2d global_in_world = starts[0] * local_in_global.at(kRobots[0]).inverse();
     const sim::World& world = simulation_->world();
-    int64_t occupied = 0, near_wall = 0;
-    for (int y = 0; y < grid.height(); ++y) {
-      for (int x = 0; x < grid.width(); ++x) {
-        if (grid.LogOdds(CellIndex(x, y)) <= 0.0f) continue;
-        ++occupied;
-        const Eigen::Vector2d p = global_in_world * grid.CellCenter(CellIndex(x, y));
-        bool hit = false;
-        for (int dy = -1; dy <= 1 && !hit; ++dy) {
-          for (int dx = -1; dx <= 1 && !hit; ++dx) {
-            hit = world.IsBlockedAt(p + world.resolution() * Eigen::Vector2d(dx, dy));
-          }
-        }
-        near_wall += hit;
-      }
-    }
-    ASSERT_GT(occupied, 500);
-    const double accuracy = static_cast<double>(near_wall) / occupied;
+    const sim::MapAccuracy score = sim::ScoreAgainstWalls(grid, global_in_world, world);
+    ASSERT_GT(score.occupied, 500);
+    const double accuracy = score.fraction();
     std::printf("merged map: %lld occupied cells, %.2f %% within 1 cell of a true wall\n",
-                static_cast<long long>(occupied), 100.0 * accuracy);
+                static_cast<long long>(score.occupied), 100.0 * accuracy);
     EXPECT_GE(accuracy, Bounds().min_map_accuracy);
     PrintAlignments();
   }
