@@ -79,9 +79,9 @@ struct DetectionConfig {
   // Keep the laser returns off detected robots out of local SLAM (seen_robot_mask.h).
   bool mask_seen_robots = true;
   // Also keep out free-standing round bodies of the marker's body_radius that the laser alone
-  // finds (laser_body.h): robots outside the camera's view, and with detection disabled. Works
-  // with mask_seen_robots only. Off by default: in the simulated department it did not make the
-  // maps better (docs/BENCHMARKS.md); for robots without cameras.
+  // finds (laser_body.h) once they move: robots outside the camera's view, and with detection
+  // disabled. Works with mask_seen_robots only. Off by default: it made the demo's map worse
+  // (department_3robots, 88-93 -> 81-82 %) though it helped elsewhere (docs/BENCHMARKS.md).
   bool mask_laser_bodies = false;
 };
 

@@ -22,10 +22,34 @@ void SeenRobotMask::AddDetection(const RobotDetection& detection) {
 }
 
 void SeenRobotMask::AddLaserBodies(double time, const std::vector<Eigen::Vector2d>& centers_in_robot) {
-  for (const Eigen::Vector2d& c : centers_in_robot) laser_bodies_.emplace_back(time, c);
+  Rigid2d odometry;
+  const bool have_odometry = OdometryAt(time, &odometry);
+  std::vector<Eigen::Vector2d> sighted;
+  for (const Eigen::Vector2d& c : centers_in_robot) {
+    if (have_odometry) sighted.push_back(odometry * c);
+    if (!options_.laser_bodies_must_move || (have_odometry && Moved(time, sighted.back()))) {
+      laser_bodies_.emplace_back(time, c);
+    }
+  }
+  while (!body_sightings_.empty() && body_sightings_.front().first < time - options_.body_track_window) {
+    body_sightings_.pop_front();
+  }
+  for (const Eigen::Vector2d& p : sighted) body_sightings_.emplace_back(time, p);
   while (!laser_bodies_.empty() && laser_bodies_.front().first < time - options_.max_laser_body_age) {
     laser_bodies_.pop_front();
   }
+}
+
+bool SeenRobotMask::Moved(double time, const Eigen::Vector2d& center) const {
+  // The nearest earlier sighting it could have come from: on the spot means a fixed thing.
+  double nearest = INFINITY;
+  for (const auto& [then, p] : body_sightings_) {
+    const double dt = time - then;
+    if (dt <= 0.0 || dt > options_.body_track_window) continue;
+    const double d = (p - center).norm();
+    if (d <= options_.max_speed * dt + options_.min_body_motion) nearest = std::min(nearest, d);
+  }
+  return std::isfinite(nearest) && nearest > options_.min_body_motion;
 }
 
 bool SeenRobotMask::OdometryAt(double time, Rigid2d* pose) const {

@@ -30,6 +30,13 @@ struct SeenRobotMaskOptions {
   // long (seconds) after the latest reading our pose is taken as that reading's, and the disks
   // grow by max_speed times the gap for our own motion since.
   double max_odometry_gap = 0.25;
+  // A body the laser alone finds masks only once it has moved: found again within
+  // body_track_window seconds more than min_body_motion (metres, in our odometry frame) from
+  // where it was, and no farther than max_speed allows. Pillars, door-frame ends and other
+  // round things stay put and stay in the map (masking them made the demo's map worse).
+  bool laser_bodies_must_move = true;
+  double min_body_motion = 0.03;
+  double body_track_window = 0.5;
 };
 
 // Keeps the returns off other robots out of local SLAM: a robot seen by the camera (a detection:
@@ -47,7 +54,9 @@ class SeenRobotMask {
   // The latest detection of each seen robot is kept.
   void AddDetection(const RobotDetection& detection);
   // Round bodies the laser alone found in the scan at `time` (centres in our robot frame, e.g.
-  // robots outside the camera's view); replaces none of the camera's detections.
+  // robots outside the camera's view); replaces none of the camera's detections. With
+  // laser_bodies_must_move, only those that moved since they were last found mask; needs our
+  // odometry at `time`.
   void AddLaserBodies(double time, const std::vector<Eigen::Vector2d>& centers_in_robot);
   // Masks the returns of `scan` (robot frame through scan->sensor_in_robot) inside a disk
   // around each robot detected within max_age before the scan (and each laser body within
@@ -65,6 +74,10 @@ class SeenRobotMask {
   std::map<std::string, RobotDetection> seen_;  // by observed robot
   // (time, centre in our robot frame), time order.
   std::deque<std::pair<double, Eigen::Vector2d>> laser_bodies_;
+  // Every body the laser found within body_track_window: (time, centre in the odometry frame).
+  std::deque<std::pair<double, Eigen::Vector2d>> body_sightings_;
+  // Whether a body at `center` (odometry frame) at `time` moved since an earlier sighting.
+  bool Moved(double time, const Eigen::Vector2d& center) const;
 };
 
 }  // namespace fleetmap

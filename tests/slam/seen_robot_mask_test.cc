@@ -124,6 +124,7 @@ TEST(SeenRobotMaskTest, MasksLaserBodiesForAShortWhile) {
   const Scene scene;
   SeenRobotMaskOptions options;
   options.max_laser_body_age = 0.3;
+  options.laser_bodies_must_move = false;  // one sighting is enough here
   SeenRobotMask mask(options);
   EXPECT_TRUE(mask.empty());
   mask.AddOdometry(0.0, Rigid2d());
@@ -142,6 +143,29 @@ TEST(SeenRobotMaskTest, MasksLaserBodiesForAShortWhile) {
   EXPECT_EQ(mask.Apply(&later), 0);  // older than max_laser_body_age
   mask.AddLaserBodies(0.9, {});      // the window moves on: the old body is dropped
   EXPECT_TRUE(mask.empty());
+}
+
+// By default a body the laser finds masks only once it is found again somewhere else: one on
+// the same spot scan after scan (a pillar) never masks; one that moves 5 cm per 0.1 s (0.5 m/s)
+// masks from its second sighting. We drive 0.1 m per scan, so the odometry frame matters.
+TEST(SeenRobotMaskTest, MasksOnlyLaserBodiesThatMove) {
+  const Scene scene;
+  for (const bool moving : {false, true}) {
+    SeenRobotMask mask;
+    int masking = 0;
+    for (int k = 0; k < 5; ++k) {
+      const double t = 0.1 * k;
+      const Rigid2d me(0.1 * k, 0.0, 0.0);
+      mask.AddOdometry(t, me);
+      // The body in the world, seen from where we are.
+      const Eigen::Vector2d body = scene.other + Eigen::Vector2d(moving ? 0.05 * k : 0.0, 0.0);
+      mask.AddLaserBodies(t, {me.inverse() * body});
+      LaserScan scan = testing::SimulateScan(scene.world, me);
+      scan.timestamp = t;
+      masking += mask.Apply(&scan) > 0;
+    }
+    EXPECT_EQ(masking, moving ? 4 : 0) << (moving ? "moving" : "fixed");
+  }
 }
 
 }  // namespace
