@@ -1,7 +1,6 @@
 // fleetmap-merge-sim-bench: simulator scenarios (unknown start poses) through local SLAM and
 // the MergeEngine in one process (no gRPC): relative transform error per robot pair, merged map
 // vs the true world, false merges and the time to fold data in; with and without detections.
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,6 +8,8 @@
 #include <iostream>
 #include <map>
 #include <random>
+
+#include <CLI/CLI.hpp>
 
 #include "map_server/bench/merge_sim_scoring.h"
 #include "map_server/merge/merge_engine.h"
@@ -160,8 +161,9 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
     if (options.detections) {
       for (const sim::VisibilityRecord& v : step.visibility) {
         if (!v.visible || !run_truth.local_in_world[v.observer] ||
-            !run_truth.local_in_world[v.observed])
+            !run_truth.local_in_world[v.observed]) {
           continue;
+        }
         RobotDetection seen;
         seen.observer_id = infos[v.observer].name;
         seen.observed_id = infos[v.observed].name;
@@ -277,8 +279,7 @@ int main(int argc, char** argv) {
       for (const auto& line : result.lines) std::cout << line << "\n";
       std::printf(
           "  nearby submaps of different robots (true anchors within %.0f m): %d pairs, median "
-          "%.3f m / "
-          "%.3f deg, max %.3f m / %.3f deg, %d beyond the false-merge thresholds\n",
+          "%.3f m / %.3f deg, max %.3f m / %.3f deg, %d beyond the false-merge thresholds\n",
           fleetmap::kNearSubmaps, result.near_pairs, result.near_median_translation,
           result.near_median_rotation * 180.0 / M_PI, result.near_max_translation,
           result.near_max_rotation * 180.0 / M_PI, result.near_pairs_off);

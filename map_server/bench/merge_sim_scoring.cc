@@ -14,38 +14,38 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-void ScoreMerge(const MergeEngine& engine, const RunTruth& w, const sim::World& world,
+void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::World& world,
                 double false_translation, double false_rotation, RunResult* result,
                 std::string* error) {
   std::map<std::string, size_t> index;
-  for (size_t i = 0; i < w.names.size(); ++i) index[w.names[i]] = i;
+  for (size_t i = 0; i < known.names.size(); ++i) index[known.names[i]] = i;
   // Relative transforms between every pair of robots' start frames against the truth. A start
   // frame is placed where the merged graph put the robot's first submap: RobotToGlobal() frames
   // the robot by its latest submap, so it also carries the local SLAM drift since the start
   // (printed for reference).
   const std::map<NodeId, Rigid2d> poses = engine.SubmapPoses();
   const auto start_in_global = [&](size_t i) -> std::optional<Rigid2d> {
-    const auto it = poses.find(NodeId{w.names[i], 0});
-    if (it == poses.end() || !w.first_submap_in_local[i]) return std::nullopt;
-    return it->second * w.first_submap_in_local[i]->inverse();
+    const auto it = poses.find(NodeId{known.names[i], 0});
+    if (it == poses.end() || !known.first_submap_in_local[i]) return std::nullopt;
+    return it->second * known.first_submap_in_local[i]->inverse();
   };
-  for (size_t a = 0; a < w.names.size(); ++a) {
-    for (size_t b = a + 1; b < w.names.size(); ++b) {
+  for (size_t a = 0; a < known.names.size(); ++a) {
+    for (size_t b = a + 1; b < known.names.size(); ++b) {
       ++result->pairs;
       const auto ga = start_in_global(a);
       const auto gb = start_in_global(b);
-      const auto la = engine.RobotToGlobal(w.names[a]);
-      const auto lb = engine.RobotToGlobal(w.names[b]);
+      const auto la = engine.RobotToGlobal(known.names[a]);
+      const auto lb = engine.RobotToGlobal(known.names[b]);
       char line[256];
-      if (!ga || !gb || !la || !lb || !w.local_in_world[a] || !w.local_in_world[b]) {
-        std::snprintf(line, sizeof(line), "  %s-%s: not merged", w.names[a].c_str(),
-                      w.names[b].c_str());
+      if (!ga || !gb || !la || !lb || !known.local_in_world[a] || !known.local_in_world[b]) {
+        std::snprintf(line, sizeof(line), "  %s-%s: not merged", known.names[a].c_str(),
+                      known.names[b].c_str());
         result->lines.push_back(line);
         continue;
       }
       ++result->placed_pairs;
       const Rigid2d estimated = ga->inverse() * *gb;
-      const Rigid2d truth = w.local_in_world[a]->inverse() * *w.local_in_world[b];
+      const Rigid2d truth = known.local_in_world[a]->inverse() * *known.local_in_world[b];
       const Rigid2d diff = truth.inverse() * estimated;
       const double t = diff.translation().norm();
       const double r = std::abs(NormalizeAngle(diff.rotation()));
@@ -55,7 +55,7 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& w, const sim::World& 
       const Rigid2d latest = truth.inverse() * (la->inverse() * *lb);
       std::snprintf(line, sizeof(line),
                     "  %s-%s: %.3f m, %.3f deg (latest submaps' frames: %.3f m, %.3f deg)",
-                    w.names[a].c_str(), w.names[b].c_str(), t, r * 180.0 / M_PI,
+                    known.names[a].c_str(), known.names[b].c_str(), t, r * 180.0 / M_PI,
                     latest.translation().norm(),
                     std::abs(NormalizeAngle(latest.rotation())) * 180.0 / M_PI);
       result->lines.push_back(line);
@@ -65,9 +65,9 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& w, const sim::World& 
   std::vector<std::pair<NodeId, Rigid2d>>
       true_anchors;  // placed submaps' true anchors in the world
   for (const auto& [id, pose] : poses) {
-    const auto anchor = w.anchors.find(id);
-    if (anchor == w.anchors.end()) continue;
-    const auto& truth = w.at_scan[index.at(id.robot)];
+    const auto anchor = known.anchors.find(id);
+    if (anchor == known.anchors.end()) continue;
+    const auto& truth = known.at_scan[index.at(id.robot)];
     const auto t = truth.find(anchor->second.second);
     if (t == truth.end()) continue;
     true_anchors.emplace_back(id, t->second * anchor->second.first);
@@ -95,10 +95,12 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& w, const sim::World& 
     result->near_max_rotation = *std::max_element(near_r.begin(), near_r.end());
   }
   const std::string& reference = engine.reference_robot();
-  for (size_t i = 0; i < w.names.size(); ++i) {
-    if (w.names[i] != reference || !w.local_in_world[i]) continue;
+  for (size_t i = 0; i < known.names.size(); ++i) {
+    if (known.names[i] != reference || !known.local_in_world[i]) continue;
     const auto grid = engine.RenderGlobalMap(std::nullopt, 0.05, error);
-    if (grid) result->map_accuracy = sim::ScoreAgainstWalls(*grid, *w.local_in_world[i], world).fraction();
+    if (grid)
+      result->map_accuracy =
+          sim::ScoreAgainstWalls(*grid, *known.local_in_world[i], world).fraction();
   }
 }
 

@@ -59,7 +59,7 @@ struct RunTruth {
 // Scores the engine's merge against the truth: relative transforms of every robot pair's start
 // frames (a pair further off than the thresholds is a false merge), the local consistency of
 // nearby submaps of different robots, and the merged map against the world's walls.
-void ScoreMerge(const MergeEngine& engine, const RunTruth& truth, const sim::World& world,
+void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::World& world,
                 double false_translation, double false_rotation, RunResult* result,
                 std::string* error);
 

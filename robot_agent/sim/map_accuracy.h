@@ -19,7 +19,8 @@ struct MapAccuracy {
 // Scores `grid` (cells with positive log-odds are occupied), placed in the world at
 // `grid_in_world`: a cell counts when the world is blocked at its centre or one world cell
 // around it (the wall crosses the cell or a neighbour).
-MapAccuracy ScoreAgainstWalls(const OccupancyGrid& grid, const Rigid2d& grid_in_world, const World& world);
+MapAccuracy ScoreAgainstWalls(const OccupancyGrid& grid, const Rigid2d& grid_in_world,
+                              const World& world);
 
 }  // namespace fleetmap::sim
 

@@ -31,11 +31,13 @@ void SeenRobotMask::AddLaserBodies(double time, const std::vector<Eigen::Vector2
       laser_bodies_.emplace_back(time, c);
     }
   }
-  while (!body_sightings_.empty() && body_sightings_.front().first < time - options_.body_track_window) {
+  while (!body_sightings_.empty() &&
+         body_sightings_.front().first < time - options_.body_track_window) {
     body_sightings_.pop_front();
   }
   for (const Eigen::Vector2d& p : sighted) body_sightings_.emplace_back(time, p);
-  while (!laser_bodies_.empty() && laser_bodies_.front().first < time - options_.max_laser_body_age) {
+  while (!laser_bodies_.empty() &&
+         laser_bodies_.front().first < time - options_.max_laser_body_age) {
     laser_bodies_.pop_front();
   }
 }
@@ -73,7 +75,8 @@ int SeenRobotMask::Apply(LaserScan* scan) const {
   Rigid2d now;
   if (empty() || !OdometryAt(scan->timestamp, &now)) return 0;
   // Our own motion since the latest odometry reading, when the scan is newer than it.
-  const double own_motion = options_.max_speed * std::max(0.0, scan->timestamp - odometry_.back().first);
+  const double own_motion =
+      options_.max_speed * std::max(0.0, scan->timestamp - odometry_.back().first);
   struct Disk {
     Eigen::Vector2d center;  // in the sensor frame at the scan
     double radius;
@@ -85,7 +88,8 @@ int SeenRobotMask::Apply(LaserScan* scan) const {
     Rigid2d then;
     if (age < 0.0 || age > max_age || !OdometryAt(time, &then)) return;
     const Eigen::Vector2d in_robot = now.inverse() * then * center;
-    disks.push_back({scan->sensor_in_robot.inverse() * in_robot, options_.robot_radius + options_.max_speed * age + own_motion});
+    const double radius = options_.robot_radius + options_.max_speed * age + own_motion;
+    disks.push_back({scan->sensor_in_robot.inverse() * in_robot, radius});
   };
   for (const auto& [robot, d] : seen_) add_disk(d.timestamp, d.position_in_observer, options_.max_age);
   for (const auto& [time, center] : laser_bodies_) add_disk(time, center, options_.max_laser_body_age);

@@ -68,6 +68,8 @@ class SeenRobotMask {
   // Odometry at `time` (linear between readings; the latest reading up to max_odometry_gap
   // after it); nothing before the readings kept or farther after them.
   bool OdometryAt(double time, Rigid2d* pose) const;
+  // Whether a body at `center` (odometry frame) at `time` moved since an earlier sighting.
+  bool Moved(double time, const Eigen::Vector2d& center) const;
 
   SeenRobotMaskOptions options_;
   std::deque<std::pair<double, Rigid2d>> odometry_;
@@ -76,8 +78,6 @@ class SeenRobotMask {
   std::deque<std::pair<double, Eigen::Vector2d>> laser_bodies_;
   // Every body the laser found within body_track_window: (time, centre in the odometry frame).
   std::deque<std::pair<double, Eigen::Vector2d>> body_sightings_;
-  // Whether a body at `center` (odometry frame) at `time` moved since an earlier sighting.
-  bool Moved(double time, const Eigen::Vector2d& center) const;
 };
 
 }  // namespace fleetmap

@@ -12,9 +12,9 @@ namespace fleetmap {
 
 // The points of a scan (robot frame) that can be matched against `target` at `pose`: those on
 // surfaces the target has seen. A point is left out when, at `pose`, it lands in a cell no scan
-// of the target observed and farther than `max_unseen_distance` from every surface in it. That is a surface the map has not seen yet: the far face of a box that
-// comes into view as the robot turns round it, pulled onto the face next to it, turned the
-// match by ~1 degree (tests/slam: ScanMatchingSlamTest.TurningPastBoxesKeepsTheHeading). Points
+// of the target observed and farther than `max_unseen_distance` from every surface in it. That
+// is a surface the map has not seen yet: the far face of a box that comes into view as the robot
+// turns round it, pulled onto the face next to it, turned the match by ~1 degree (tests/slam: ScanMatchingSlamTest.TurningPastBoxesKeepsTheHeading). Points
 // just behind a mapped wall (the cells behind a wall are never observed) stay, so the filter
 // does not push the scan off its walls. When fewer than `min_kept_share` of the points would
 // stay (entering new space, a poor pose), all are returned. Needs a target that tracks

@@ -112,8 +112,6 @@ TEST(MappingPipelineTest, ReplayingTheSameDataQueuesNothingNew) {
   }
 }
 
-// With laser_body_radius set, a robot standing beside the path (a 0.2 m cylinder, no camera)
-// is found by the laser alone and its returns are kept out of local SLAM; without, nothing is.
 // A round body of the robots' radius drives across the room at 0.5 m/s: asked to, the pipeline
 // masks its returns. The same body standing still (a pillar) is found but stays in the map.
 TEST(MappingPipelineTest, MasksRoundBodiesTheLaserFindsWhenAsked) {
@@ -132,7 +130,8 @@ TEST(MappingPipelineTest, MasksRoundBodiesTheLaserFindsWhenAsked) {
       event.laser->scan.timestamp = t;
       const Eigen::Vector2d seen = event.ground_truth->inverse() * other;
       for (int i = 0; i < event.laser->scan.size(); ++i) {
-        const double r = event.laser->scan.ranges[static_cast<size_t>(i)], a = event.laser->scan.angle(i);
+        const double r = event.laser->scan.ranges[static_cast<size_t>(i)];
+        const double a = event.laser->scan.angle(i);
         on_other += event.laser->scan.IsReturn(i) &&
                     (Eigen::Vector2d(r * std::cos(a), r * std::sin(a)) - seen).norm() < 0.25;
       }

@@ -16,6 +16,13 @@ namespace {
 using namespace merge_fixtures;
 using testing::IsNearPose;
 
+// A detection of b by a at `step`, reported 3 m off (consistent with others like it, wrong).
+RobotDetection MisplacedDetection(const SimRobot& a, const SimRobot& b, size_t step) {
+  RobotDetection d = Detect(a, b, step, false);
+  d.position_in_observer += Eigen::Vector2d(3.0, 0.0);
+  return d;
+}
+
 // Detections already received overrule a submap match that contradicts them: in a nearly
 // symmetric building the map turned round matches as well as the true one, and every further
 // submap agrees with it. Here the detections (consistent with each other) put b 3 m from where
@@ -24,11 +31,7 @@ TEST(MergeEngineTest, DetectionsThatContradictAMatchOverruleIt) {
   const SimRobot a = RobotA(), b = RobotB(-2.4);
   auto engine_owner = OverlappingRobotsWithSearches(a, b);
   MergeEngine& engine = *engine_owner;
-  for (size_t step : {10u, 20u, 30u}) {
-    RobotDetection d = Detect(a, b, step, false);
-    d.position_in_observer += Eigen::Vector2d(3.0, 0.0);
-    ASSERT_TRUE(engine.AddDetection(d));
-  }
+  for (size_t step : {10u, 20u, 30u}) ASSERT_TRUE(engine.AddDetection(MisplacedDetection(a, b, step)));
   const MergeUpdate update = engine.Update();
   EXPECT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 0);
   bool overruled = false;
@@ -82,11 +85,7 @@ TEST(MergeEngineTest, AJoinContradictedByDetectionsLeavesTheRobotUnplaced) {
   engine.Update();
   ASSERT_TRUE(EstimatedRelative(engine, "a", "b"));
   const Rigid2d a_before = *engine.RobotToGlobal("a");
-  for (size_t step : {10u, 20u, 30u, 40u}) {
-    RobotDetection d = Detect(a, b, step, false);
-    d.position_in_observer += Eigen::Vector2d(3.0, 0.0);
-    ASSERT_TRUE(engine.AddDetection(d));
-  }
+  for (size_t step : {10u, 20u, 30u, 40u}) ASSERT_TRUE(engine.AddDetection(MisplacedDetection(a, b, step)));
   MergeUpdate update = engine.Update();
   EXPECT_EQ(Count(update, AlignmentEventType::kWithdrawn), 1);
   EXPECT_TRUE(update.changed_region.has_value());
@@ -107,17 +106,12 @@ TEST(MergeEngineTest, AJoinIsWithdrawnOnlyWhenAClearMajorityContradictsIt) {
   engine.Update();
   ASSERT_TRUE(EstimatedRelative(engine, "a", "b"));
   for (size_t step : {5u, 15u, 25u, 35u}) ASSERT_TRUE(engine.AddDetection(Detect(a, b, step, false)));
-  auto add_wrong = [&](size_t step) {
-    RobotDetection d = Detect(a, b, step, false);
-    d.position_in_observer += Eigen::Vector2d(3.0, 0.0);
-    ASSERT_TRUE(engine.AddDetection(d));
-  };
-  for (size_t step : {10u, 20u, 30u, 40u, 45u}) add_wrong(step);
+  for (size_t step : {10u, 20u, 30u, 40u, 45u}) ASSERT_TRUE(engine.AddDetection(MisplacedDetection(a, b, step)));
   MergeUpdate update = engine.Update();
   EXPECT_EQ(Count(update, AlignmentEventType::kWithdrawn), 0);
   EXPECT_THAT(*EstimatedRelative(engine, "a", "b"), IsNearPose(TrueRelative(a, b), 0.1, 0.01));
 
-  for (size_t step : {12u, 22u}) add_wrong(step);
+  for (size_t step : {12u, 22u}) ASSERT_TRUE(engine.AddDetection(MisplacedDetection(a, b, step)));
   update = engine.Update();
   EXPECT_EQ(Count(update, AlignmentEventType::kWithdrawn), 1);
 }
