@@ -15,6 +15,7 @@
 #include "shared/matching/match_grid.h"
 #include "shared/matching/match_grid_pyramid.h"
 #include "shared/matching/pose_refinement.h"
+#include "shared/matching/seen_from_behind.h"
 
 namespace fleetmap {
 
@@ -54,6 +55,10 @@ struct LoopClosureOptions {
   double min_refined_score = 0.65;
   double min_inlier_fraction = 0.8;
   double min_observed_fraction = 0.6;
+  // A match that sees more than this share of the submap's walls (under the node's returns)
+  // from the side the submap never saw is wrong whatever it scores (see WallsSeenFromBehind).
+  double max_seen_from_behind = 0.5;
+  SeenFromBehindOptions seen_from_behind;
   // A match only becomes a constraint once at least `min_agreeing` matches of nodes searched
   // within `candidate_lifetime_nodes` (itself included) imply the same correction of the current
   // estimate, within these tolerances: wrong matches (repeating structure, partial overlap)
