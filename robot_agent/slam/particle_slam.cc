@@ -36,7 +36,11 @@ ParticleSlam::ParticleSlam(const ParticleSlamOptions& options)
         grid.max_trace_range = options.max_range;
         return grid;
       }()),
-      tracker_(options_.tracker) {}
+      tracker_(options_.tracker) {
+  if (options_.loop_closure.enabled) {
+    loop_closure_ = std::make_unique<ParticleLoopClosure>(options_.loop_closure, options_.keyframes_per_submap);
+  }
+}
 
 bool ParticleSlam::AddOdometry(const StampedPose& odometry, std::string* error) {
   if (!CheckInputTime(odometry.timestamp, last_time_, "odometry", error)) return false;
@@ -146,7 +150,12 @@ bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
     }
   }
   anchors_.push_back({keyframe_poses_.size() - 1, keyframe_poses_.back().inverse() * current_pose_});
+  if (loop_closure_) {
+    loop_closure_->AddScan(scan.timestamp, anchors_.back().keyframe, anchors_.back().offset,
+                           prepared.tracker_match);
+  }
   trajectory_.push_back({scan.timestamp, current_pose_});
+  trajectory_.back().pose = ReportedPose(trajectory_.size() - 1);
   return true;
 }
 
@@ -172,16 +181,60 @@ void ParticleSlam::RefreshBestHistory() {
     }
   }
   keyframe_poses_ = std::move(history);
-  submaps_.SetPoses(keyframe_poses_);
   tracker_.Rebuild(keyframe_poses_);
-  if (!changed) return;
-  ++revision_;
-  for (size_t i = 0; i < anchors_.size(); ++i) {
-    const ScanAnchor& anchor = anchors_[i];
-    if (anchor.keyframe < keyframe_poses_.size()) {
-      trajectory_[i].pose = keyframe_poses_[anchor.keyframe] * anchor.offset;
-    }
+  if (!loop_closure_) {
+    submaps_.SetPoses(keyframe_poses_);
+    if (!changed) return;
+    ++revision_;
+    ReportAllPoses();
+    return;
   }
+  const size_t settled_before = loop_closure_->settled();
+  const bool corrected = loop_closure_->Update(
+      keyframe_poses_, NewestSharedKeyframe(filter_.particles(), static_cast<int64_t>(settled_before)));
+  submaps_.SetPoses(loop_closure_->LocalKeyframePoses(keyframe_poses_));
+  if (!changed && !corrected) return;
+  ++revision_;
+  if (corrected) {
+    ReportAllPoses();
+    return;
+  }
+  // The layer ignores the filter's changes to settled keyframes: only later scans move.
+  for (size_t i = anchors_.size(); i-- > 0 && anchors_[i].keyframe >= settled_before;) {
+    trajectory_[i].pose = ReportedPose(i);
+  }
+}
+
+Rigid2d ParticleSlam::ReportedPose(size_t scan) const {
+  const ScanAnchor& anchor = anchors_[scan];
+  if (anchor.keyframe >= keyframe_poses_.size()) return trajectory_[scan].pose;
+  if (!loop_closure_) return keyframe_poses_[anchor.keyframe] * anchor.offset;
+  const Rigid2d local = loop_closure_->LocalKeyframePose(anchor.keyframe, keyframe_poses_) * anchor.offset;
+  return loop_closure_->Corrected(trajectory_[scan].timestamp, local);
+}
+
+void ParticleSlam::ReportAllPoses() {
+  for (size_t i = 0; i < anchors_.size(); ++i) trajectory_[i].pose = ReportedPose(i);
+}
+
+Rigid2d ParticleSlam::CurrentPose() const {
+  if (!loop_closure_) return current_pose_;
+  return trajectory_.empty() ? Rigid2d() : trajectory_.back().pose;
+}
+
+std::vector<Submap> ParticleSlam::TakeSubmapUpdates() {
+  std::vector<Submap> updates = submaps_.TakeUpdates();
+  return loop_closure_ ? loop_closure_->CorrectSubmaps(std::move(updates)) : updates;
+}
+
+void ParticleSlam::Finish() {
+  submaps_.Finish();
+  if (!loop_closure_) return;
+  // Every particle's history is final now: all keyframes settle and the graph closes.
+  loop_closure_->Finish(keyframe_poses_);
+  submaps_.SetPoses(loop_closure_->LocalKeyframePoses(keyframe_poses_));
+  ++revision_;
+  ReportAllPoses();
 }
 
 std::string ParticleSlam::Statistics() const {
@@ -192,6 +245,7 @@ std::string ParticleSlam::Statistics() const {
       << " scans carried by odometry, " << revision_ << " trajectory revisions; map tiles "
       << filter_.UniqueTileBytes() / (1024 * 1024) << " MiB unique of "
       << filter_.TotalTileBytes() / (1024 * 1024) << " MiB referenced";
+  if (loop_closure_) out << "; " << loop_closure_->Statistics();
   return out.str();
 }
 

@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 #include <vector>
@@ -35,8 +37,9 @@ std::vector<Rigid2d> LoopPoses() {
   return poses;
 }
 
-// Odometry with a heading drift (0.5 degree per metre) and random noise.
-std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned seed) {
+// Odometry with a heading drift (`drift_deg_per_m`) and random noise.
+std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned seed,
+                                   double drift_deg_per_m = 0.5) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, 1.0);
   std::vector<Rigid2d> odometry = {truth.front()};
@@ -44,7 +47,7 @@ std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned s
     const Rigid2d step = truth[i - 1].inverse() * truth[i];
     const double d = step.translation().norm();
     const Rigid2d noisy(step.x() * (1.0 + 0.03 * noise(rng)), step.y() + 0.01 * d * noise(rng),
-                        step.rotation() + 0.5 * kDegree * d + 0.02 * std::abs(step.rotation()) * noise(rng));
+                        step.rotation() + drift_deg_per_m * kDegree * d + 0.02 * std::abs(step.rotation()) * noise(rng));
     odometry.push_back(odometry.back() * noisy);
   }
   return odometry;
@@ -134,8 +137,11 @@ TEST(RbpfSlamTest, SameSeedAndThreadsGiveIdenticalResults) {
   const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 5);
   std::vector<Trajectory> runs;
   for (int threads : {2, 2, 1}) {
-    ParticleSlam slam(SmallRbpf(42, threads));
+    ParticleSlamOptions options = SmallRbpf(42, threads);
+    options.loop_closure.enabled = true;  // the pose graph must not break determinism either
+    ParticleSlam slam(options);
     RunLoop(&slam, truth, odometry);
+    slam.Finish();
     runs.push_back(slam.trajectory());
   }
   for (size_t r = 1; r < runs.size(); ++r) {
@@ -146,6 +152,59 @@ TEST(RbpfSlamTest, SameSeedAndThreadsGiveIdenticalResults) {
       ASSERT_EQ(runs[r][i].pose.rotation(), runs[0][i].pose.rotation()) << "run " << r << " scan " << i;
     }
   }
+}
+
+// The largest distance between a submap's anchor and the true position of its first scan.
+double WorstAnchorError(const std::vector<Submap>& submaps, const std::vector<Rigid2d>& truth) {
+  double worst = 0.0;
+  for (const Submap& submap : submaps) {
+    if (submap.scan_poses.empty()) continue;
+    const size_t index = static_cast<size_t>(std::lround(submap.scan_poses.front().timestamp / 0.1));
+    const Rigid2d expected = truth.front().inverse() * truth[index];
+    worst = std::max(worst, (submap.submap_in_local.translation() - expected.translation()).norm());
+  }
+  return worst;
+}
+
+// Three particles lose the loop: the filter ends 0.6 m off. The loop-closure layer over its
+// settled keyframes closes it, and the submaps come out at the corrected anchors, consistent
+// with the corrected trajectory.
+TEST(RbpfSlamTest, LoopClosureLayerClosesALoopTheFilterMisses) {
+  const std::vector<Rigid2d> truth = LoopPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 3);
+  ParticleSlamOptions options = SmallRbpf(1, 2);
+  options.filter.particles = 3;
+  options.loop_closure.enabled = false;
+  ParticleSlam filter_only(options);
+  RunLoop(&filter_only, truth, odometry);
+  filter_only.Finish();
+  options.loop_closure.enabled = true;
+  ParticleSlam closed(options);
+  RunLoop(&closed, truth, odometry);
+  closed.Finish();
+
+  const double filter_error = EndError(filter_only, truth);
+  EXPECT_GT(filter_error, 0.4) << filter_only.Statistics();  // else the test means nothing
+  EXPECT_LT(EndError(closed, truth), 0.15) << closed.Statistics();
+  EXPECT_LT(EndError(closed, truth), filter_error / 3.0);
+
+  const std::vector<Submap> filter_submaps = filter_only.TakeSubmapUpdates();
+  const std::vector<Submap> submaps = closed.TakeSubmapUpdates();
+  ASSERT_GE(submaps.size(), 3u);
+  EXPECT_GT(WorstAnchorError(filter_submaps, truth), 0.3);
+  EXPECT_LT(WorstAnchorError(submaps, truth), 0.2);
+  for (const Submap& submap : submaps) {
+    EXPECT_TRUE(submap.finished);
+    ASSERT_FALSE(submap.scan_poses.empty());
+    // The anchor sits at the group's first keyframe, and the scan poses are the trajectory's.
+    EXPECT_LT((submap.submap_in_local.translation() - submap.scan_poses.front().pose.translation()).norm(),
+              0.05) << "submap " << submap.submap_id;
+    for (const StampedPose& scan : submap.scan_poses) {
+      const size_t index = static_cast<size_t>(std::lround(scan.timestamp / 0.1));
+      EXPECT_THAT(scan.pose, IsNearPose(closed.trajectory()[index].pose, 1e-9, 1e-9));
+    }
+  }
+  EXPECT_TRUE(closed.TakeSubmapUpdates().empty());
 }
 
 // A plain corridor longer than the laser's 8 m range, then its end wall coming into range,
@@ -215,6 +274,20 @@ TEST(RbpfSlamTest, FactoryPassesTheScanMatchedMotionChoice) {
   RunLoop(&odometry_driven, truth, odometry);
   EXPECT_THAT(made->CurrentPose(), IsNearPose(by_hand.CurrentPose(), 1e-12, 1e-12));
   EXPECT_FALSE((made->CurrentPose().translation() - odometry_driven.CurrentPose().translation()).norm() < 1e-9);
+}
+
+// The tools' --particle-loop-closure reaches the backend (its statistics report the layer).
+TEST(RbpfSlamTest, FactoryPassesTheLoopClosureChoice) {
+  std::string error;
+  for (bool on : {false, true}) {
+    BackendChoice choice;
+    choice.algorithm = "rbpf";
+    choice.particles = 3;
+    choice.particle_loop_closure = on;
+    std::unique_ptr<LocalSlam> made = MakeLocalSlam(choice, &error);
+    ASSERT_NE(made, nullptr) << error;
+    EXPECT_EQ(made->Statistics().find("loop closure") != std::string::npos, on) << made->Statistics();
+  }
 }
 
 }  // namespace

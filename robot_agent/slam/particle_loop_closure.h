@@ -1,0 +1,115 @@
+#ifndef FLEETMAP_ROBOT_AGENT_SLAM_PARTICLE_LOOP_CLOSURE_H_
+#define FLEETMAP_ROBOT_AGENT_SLAM_PARTICLE_LOOP_CLOSURE_H_
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "robot_agent/slam/loop_closure.h"
+#include "robot_agent/slam/particle_filter.h"
+#include "shared/core/rigid2d.h"
+#include "shared/core/submap.h"
+
+namespace fleetmap {
+
+struct ParticleLoopClosureOptions {
+  // Off, the particle filter reports its best particle's poses and maps unchanged.
+  bool enabled = true;
+  // A keyframe goes to the pose graph once every particle descends from it (no resampling can
+  // change it any more) or, at the latest, once it is this many keyframes old. Resampling keeps
+  // rewriting the best particle's recent history; a pose graph node cannot follow that.
+  int settle_keyframes = 20;
+  // Scans between keyframes become graph nodes when the robot moved this far since the previous
+  // node (the scan-matching backend's insertion filter, which LoopClosure's defaults are tuned
+  // for); keyframe scans always do.
+  double node_min_translation = 0.1;
+  double node_min_rotation = 0.087;
+  LoopClosureOptions graph;
+};
+
+// The newest keyframe index (>= `from`) that every particle's history shares, -1 when none: no
+// resampling can change that keyframe, or any before it, any more.
+int64_t NewestSharedKeyframe(const std::vector<Particle>& particles, int64_t from);
+
+// Cartographer-style global loop closure (LoopClosure) over a particle filter's best trajectory.
+// The filter revises its best particle's recent history when it resamples, so keyframes reach
+// the pose graph only once they settled (see ParticleLoopClosureOptions::settle_keyframes).
+// Settled keyframes form the layer's local chain; keyframes after the newest settled one follow
+// it by the filter's current relative poses. Reported poses are the graph's correction applied
+// to that chain; submaps (groups of keyframes_per_submap keyframes, as ParticleSubmaps cuts
+// them) are re-anchored at the graph's submap poses.
+class ParticleLoopClosure {
+ public:
+  ParticleLoopClosure(const ParticleLoopClosureOptions& options, int keyframes_per_submap);
+
+  // A scan's returns (robot frame), its pose being `offset` in keyframe `keyframe`'s frame; kept
+  // until that keyframe settles. `keyframe` must not have settled yet.
+  void AddScan(double timestamp, size_t keyframe, const Rigid2d& offset,
+               std::vector<Eigen::Vector2f> points);
+  // The best particle's keyframe poses (oldest first) after a filter update: settles the
+  // keyframes that became final or old enough (never the newest), given `shared_up_to` (see
+  // NewestSharedKeyframe), and feeds their scans to the graph. Returns true when the graph's
+  // corrections changed.
+  bool Update(const std::vector<Rigid2d>& filter_poses, int64_t shared_up_to);
+  // End of input: settles every keyframe and closes the graph. Returns true when corrections
+  // changed.
+  bool Finish(const std::vector<Rigid2d>& filter_poses);
+
+  // The layer's local pose of keyframe `keyframe` given the filter's current poses.
+  Rigid2d LocalKeyframePose(size_t keyframe, const std::vector<Rigid2d>& filter_poses) const;
+  // LocalKeyframePose for every keyframe: what the submaps are rendered at.
+  std::vector<Rigid2d> LocalKeyframePoses(const std::vector<Rigid2d>& filter_poses) const;
+  // A local pose (LocalKeyframePose * offset) at `timestamp`, corrected by the graph.
+  Rigid2d Corrected(double timestamp, const Rigid2d& local) const {
+    return closure_.CorrectionAt(timestamp) * local;
+  }
+
+  // Submaps rendered at LocalKeyframePoses, moved to the corrected frame; finished submaps whose
+  // correction changed since they were handed out come again with a higher revision.
+  std::vector<Submap> CorrectSubmaps(std::vector<Submap> local_updates);
+
+  size_t settled() const { return settled_.size(); }
+  std::string Statistics() const;
+
+ private:
+  struct PendingScan {
+    double timestamp;
+    size_t keyframe;
+    Rigid2d offset;
+    std::vector<Eigen::Vector2f> points;
+  };
+  void Settle(size_t keyframe, const std::vector<Rigid2d>& filter_poses);
+  // Counts settled keyframes the filter has since moved (how often settling was premature).
+  void CountRevisions(const std::vector<Rigid2d>& filter_poses);
+  void ToCorrected(const Submap& local, Submap* corrected) const;
+
+  struct Published {
+    Submap local;      // as ParticleSubmaps rendered it (local frame)
+    Submap corrected;  // as last handed out
+  };
+
+  const ParticleLoopClosureOptions options_;
+  const size_t per_submap_;
+  LoopClosure closure_;
+  std::deque<PendingScan> pending_;
+  std::vector<Rigid2d> settled_;           // the layer's local keyframe poses
+  std::vector<Rigid2d> filter_at_settle_;  // the filter's pose of each when it settled
+  std::vector<bool> revised_;
+  std::optional<Rigid2d> last_node_;
+  bool corrections_changed_ = false;  // during the current Update or Finish
+  bool submaps_moved_ = false;        // corrections changed since the last CorrectSubmaps
+  std::map<int64_t, Published> published_;
+  std::map<int64_t, int64_t> revisions_;
+  int64_t settled_shared_ = 0;  // keyframes settled because every particle shares them
+  int64_t revised_count_ = 0;
+  double worst_revision_ = 0.0;  // metres
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_ROBOT_AGENT_SLAM_PARTICLE_LOOP_CLOSURE_H_
