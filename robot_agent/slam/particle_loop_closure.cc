@@ -76,6 +76,7 @@ bool ParticleLoopClosure::Update(const std::vector<Rigid2d>& filter_poses, int64
     Settle(settled_.size(), filter_poses);
   }
   submaps_moved_ = submaps_moved_ || corrections_changed_;
+  worst_lag_ = std::max(worst_lag_, filter_poses.size() - settled_.size());
   return corrections_changed_;
 }
 
@@ -184,7 +185,8 @@ std::string ParticleLoopClosure::Statistics() const {
   std::ostringstream out;
   out << "loop closure: " << settled_.size() << " keyframes settled (" << settled_shared_
       << " shared by every particle), " << revised_count_
-      << " later moved by the filter (worst " << worst_revision_ << " m); " << closure_.nodes()
+      << " later moved by the filter (worst " << worst_revision_ << " m), at most " << worst_lag_
+      << " keyframes unsettled; " << closure_.nodes()
       << " nodes, " << closure_.searches() << " searches, " << closure_.loop_constraints()
       << " constraints, " << closure_.optimizations() << " optimisations";
   return out.str();
