@@ -131,7 +131,8 @@ std::vector<Rigid2d> ParticleLoopClosure::LocalKeyframePoses(
     const std::vector<Rigid2d>& filter_poses) const {
   std::vector<Rigid2d> poses;
   poses.reserve(filter_poses.size());
-  for (size_t k = 0; k < filter_poses.size(); ++k) poses.push_back(LocalKeyframePose(k, filter_poses));
+  for (size_t k = 0; k < filter_poses.size(); ++k)
+    poses.push_back(LocalKeyframePose(k, filter_poses));
   return poses;
 }
 
@@ -168,7 +169,8 @@ std::vector<Submap> ParticleLoopClosure::CorrectSubmaps(std::vector<Submap> loca
   if (!submaps_moved_) return updates;
   submaps_moved_ = false;
   for (auto& [id, published] : published_) {
-    if (std::any_of(updates.begin(), updates.end(), [id = id](const Submap& s) { return s.submap_id == id; })) {
+    if (std::any_of(updates.begin(), updates.end(),
+                    [id = id](const Submap& s) { return s.submap_id == id; })) {
       continue;
     }
     Submap moved;
@@ -184,11 +186,11 @@ std::vector<Submap> ParticleLoopClosure::CorrectSubmaps(std::vector<Submap> loca
 std::string ParticleLoopClosure::Statistics() const {
   std::ostringstream out;
   out << "loop closure: " << settled_.size() << " keyframes settled (" << settled_shared_
-      << " shared by every particle), " << revised_count_
-      << " later moved by the filter (worst " << worst_revision_ << " m), at most " << worst_lag_
-      << " keyframes unsettled; " << closure_.nodes()
-      << " nodes, " << closure_.searches() << " searches, " << closure_.loop_constraints()
-      << " constraints, " << closure_.optimizations() << " optimisations";
+      << " shared by every particle), " << revised_count_ << " later moved by the filter (worst "
+      << worst_revision_ << " m), at most " << worst_lag_ << " keyframes unsettled; "
+      << closure_.nodes() << " nodes, " << closure_.searches() << " searches, "
+      << closure_.loop_constraints() << " constraints, " << closure_.optimizations()
+      << " optimisations";
   return out.str();
 }
 

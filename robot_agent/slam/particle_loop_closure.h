@@ -1,14 +1,13 @@
 #ifndef FLEETMAP_ROBOT_AGENT_SLAM_PARTICLE_LOOP_CLOSURE_H_
 #define FLEETMAP_ROBOT_AGENT_SLAM_PARTICLE_LOOP_CLOSURE_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <deque>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "robot_agent/slam/loop_closure.h"
 #include "robot_agent/slam/particle_filter.h"

@@ -38,7 +38,8 @@ ParticleSlam::ParticleSlam(const ParticleSlamOptions& options)
       }()),
       tracker_(options_.tracker) {
   if (options_.loop_closure.enabled) {
-    loop_closure_ = std::make_unique<ParticleLoopClosure>(options_.loop_closure, options_.keyframes_per_submap);
+    loop_closure_ = std::make_unique<ParticleLoopClosure>(options_.loop_closure,
+                                                          options_.keyframes_per_submap);
   }
 }
 
@@ -182,18 +183,25 @@ void ParticleSlam::RefreshBestHistory() {
   }
   keyframe_poses_ = std::move(history);
   tracker_.Rebuild(keyframe_poses_);
-  if (!loop_closure_) {
-    submaps_.SetPoses(keyframe_poses_);
-    if (!changed) return;
-    ++revision_;
-    ReportAllPoses();
+  if (loop_closure_) {
+    SettleAndCorrect(changed);
     return;
   }
+  submaps_.SetPoses(keyframe_poses_);
+  if (!changed) return;
+  ++revision_;
+  ReportAllPoses();
+}
+
+// Hands the keyframes that settled to the loop-closure layer; the reported poses move when the
+// filter changed its unsettled history or the pose graph its corrections.
+void ParticleSlam::SettleAndCorrect(bool history_changed) {
   const size_t settled_before = loop_closure_->settled();
-  const bool corrected = loop_closure_->Update(
-      keyframe_poses_, NewestSharedKeyframe(filter_.particles(), static_cast<int64_t>(settled_before)));
+  const int64_t shared =
+      NewestSharedKeyframe(filter_.particles(), static_cast<int64_t>(settled_before));
+  const bool corrected = loop_closure_->Update(keyframe_poses_, shared);
   submaps_.SetPoses(loop_closure_->LocalKeyframePoses(keyframe_poses_));
-  if (!changed && !corrected) return;
+  if (!history_changed && !corrected) return;
   ++revision_;
   if (corrected) {
     ReportAllPoses();
@@ -209,7 +217,8 @@ Rigid2d ParticleSlam::ReportedPose(size_t scan) const {
   const ScanAnchor& anchor = anchors_[scan];
   if (anchor.keyframe >= keyframe_poses_.size()) return trajectory_[scan].pose;
   if (!loop_closure_) return keyframe_poses_[anchor.keyframe] * anchor.offset;
-  const Rigid2d local = loop_closure_->LocalKeyframePose(anchor.keyframe, keyframe_poses_) * anchor.offset;
+  const Rigid2d local =
+      loop_closure_->LocalKeyframePose(anchor.keyframe, keyframe_poses_) * anchor.offset;
   return loop_closure_->Corrected(trajectory_[scan].timestamp, local);
 }
 

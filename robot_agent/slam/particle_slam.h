@@ -95,6 +95,7 @@ class ParticleSlam : public LocalSlam {
                                                     const Rigid2d& predicted) const;
   void AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points);
   void RefreshBestHistory();
+  void SettleAndCorrect(bool history_changed);
   // The reported pose of scan `i` from its anchor (through the loop-closure layer when on).
   Rigid2d ReportedPose(size_t scan) const;
   void ReportAllPoses();

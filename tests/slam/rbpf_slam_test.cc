@@ -47,7 +47,8 @@ std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned s
     const Rigid2d step = truth[i - 1].inverse() * truth[i];
     const double d = step.translation().norm();
     const Rigid2d noisy(step.x() * (1.0 + 0.03 * noise(rng)), step.y() + 0.01 * d * noise(rng),
-                        step.rotation() + drift_deg_per_m * kDegree * d + 0.02 * std::abs(step.rotation()) * noise(rng));
+                        step.rotation() + drift_deg_per_m * kDegree * d +
+                            0.02 * std::abs(step.rotation()) * noise(rng));
     odometry.push_back(odometry.back() * noisy);
   }
   return odometry;
@@ -159,7 +160,8 @@ double WorstAnchorError(const std::vector<Submap>& submaps, const std::vector<Ri
   double worst = 0.0;
   for (const Submap& submap : submaps) {
     if (submap.scan_poses.empty()) continue;
-    const size_t index = static_cast<size_t>(std::lround(submap.scan_poses.front().timestamp / 0.1));
+    const double start = submap.scan_poses.front().timestamp;
+    const size_t index = static_cast<size_t>(std::lround(start / 0.1));
     const Rigid2d expected = truth.front().inverse() * truth[index];
     worst = std::max(worst, (submap.submap_in_local.translation() - expected.translation()).norm());
   }
@@ -197,8 +199,9 @@ TEST(RbpfSlamTest, LoopClosureLayerClosesALoopTheFilterMisses) {
     EXPECT_TRUE(submap.finished);
     ASSERT_FALSE(submap.scan_poses.empty());
     // The anchor sits at the group's first keyframe, and the scan poses are the trajectory's.
-    EXPECT_LT((submap.submap_in_local.translation() - submap.scan_poses.front().pose.translation()).norm(),
-              0.05) << "submap " << submap.submap_id;
+    const Eigen::Vector2d first_scan = submap.scan_poses.front().pose.translation();
+    EXPECT_LT((submap.submap_in_local.translation() - first_scan).norm(), 0.05)
+        << "submap " << submap.submap_id;
     for (const StampedPose& scan : submap.scan_poses) {
       const size_t index = static_cast<size_t>(std::lround(scan.timestamp / 0.1));
       EXPECT_THAT(scan.pose, IsNearPose(closed.trajectory()[index].pose, 1e-9, 1e-9));
@@ -286,7 +289,8 @@ TEST(RbpfSlamTest, FactoryPassesTheLoopClosureChoice) {
     choice.particle_loop_closure = on;
     std::unique_ptr<LocalSlam> made = MakeLocalSlam(choice, &error);
     ASSERT_NE(made, nullptr) << error;
-    EXPECT_EQ(made->Statistics().find("loop closure") != std::string::npos, on) << made->Statistics();
+    const std::string statistics = made->Statistics();
+    EXPECT_EQ(statistics.find("loop closure") != std::string::npos, on) << statistics;
   }
 }
 
