@@ -55,7 +55,7 @@ ParticleLoopClosure::ParticleLoopClosure(const ParticleLoopClosureOptions& optio
                                          int keyframes_per_submap)
     : options_(options),
       per_submap_(static_cast<size_t>(std::max(1, keyframes_per_submap))),
-      closure_(options.graph) {}
+      closure_(std::make_unique<LoopClosure>(options.graph)) {}
 
 void ParticleLoopClosure::AddScan(double timestamp, size_t keyframe, const Rigid2d& offset,
                                   std::vector<Eigen::Vector2f> points) {
@@ -83,8 +83,12 @@ bool ParticleLoopClosure::Update(const std::vector<Rigid2d>& filter_poses, int64
 bool ParticleLoopClosure::Finish(const std::vector<Rigid2d>& filter_poses) {
   CountRevisions(filter_poses);
   corrections_changed_ = false;
+  if (options_.rebuild_at_finish && revised_count_ > 0) {
+    Restart();
+    corrections_changed_ = true;
+  }
   while (settled_.size() < filter_poses.size()) Settle(settled_.size(), filter_poses);
-  if (closure_.Finish()) corrections_changed_ = true;
+  if (closure_->Finish()) corrections_changed_ = true;
   submaps_moved_ = submaps_moved_ || corrections_changed_;
   return corrections_changed_;
 }
@@ -109,14 +113,28 @@ void ParticleLoopClosure::Settle(size_t keyframe, const std::vector<Rigid2d>& fi
     if (node) {
       // Nodes of one keyframe group share its submap id and its anchor, as ParticleSubmaps
       // renders it (the group's first keyframe, map axes).
-      if (closure_.AddNode(scan.timestamp, scan.points, local, static_cast<int64_t>(group),
-                           submap_in_local)) {
+      if (closure_->AddNode(scan.timestamp, scan.points, local, static_cast<int64_t>(group),
+                            submap_in_local)) {
         corrections_changed_ = true;
       }
       last_node_ = local;
+      if (options_.rebuild_at_finish) nodes_.push_back(std::move(pending_.front()));
     }
     pending_.pop_front();
   }
+}
+
+void ParticleLoopClosure::Restart() {
+  closure_ = std::make_unique<LoopClosure>(options_.graph);
+  for (auto scan = nodes_.rbegin(); scan != nodes_.rend(); ++scan) {
+    pending_.push_front(std::move(*scan));
+  }
+  nodes_.clear();
+  settled_.clear();
+  filter_at_settle_.clear();
+  revised_.clear();
+  last_node_.reset();
+  rebuilt_ = true;
 }
 
 Rigid2d ParticleLoopClosure::LocalKeyframePose(size_t keyframe,
@@ -151,7 +169,7 @@ void ParticleLoopClosure::CountRevisions(const std::vector<Rigid2d>& filter_pose
 
 void ParticleLoopClosure::ToCorrected(const Submap& local, Submap* corrected) const {
   *corrected = local;
-  const std::optional<Rigid2d> anchor = closure_.SubmapInGlobal(local.submap_id);
+  const std::optional<Rigid2d> anchor = closure_->SubmapInGlobal(local.submap_id);
   const double start = local.scan_poses.empty() ? 0.0 : local.scan_poses.front().timestamp;
   corrected->submap_in_local = anchor ? *anchor : Corrected(start, local.submap_in_local);
   for (StampedPose& scan : corrected->scan_poses) scan.pose = Corrected(scan.timestamp, scan.pose);
@@ -187,10 +205,10 @@ std::string ParticleLoopClosure::Statistics() const {
   std::ostringstream out;
   out << "loop closure: " << settled_.size() << " keyframes settled (" << settled_shared_
       << " shared by every particle), " << revised_count_ << " later moved by the filter (worst "
-      << worst_revision_ << " m), at most " << worst_lag_ << " keyframes unsettled; "
-      << closure_.nodes() << " nodes, " << closure_.searches() << " searches, "
-      << closure_.loop_constraints() << " constraints, " << closure_.optimizations()
-      << " optimisations";
+      << worst_revision_ << " m), at most " << worst_lag_ << " keyframes unsettled"
+      << (rebuilt_ ? ", graph rebuilt at the end; " : "; ") << closure_->nodes() << " nodes, "
+      << closure_->searches() << " searches, " << closure_->loop_constraints() << " constraints, "
+      << closure_->optimizations() << " optimisations";
   return out.str();
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +34,12 @@ struct ParticleLoopClosureOptions {
   // for); keyframe scans always do.
   double node_min_translation = 0.1;
   double node_min_rotation = 0.087;
+  // At the end of input, when the filter moved settled keyframes, the pose graph is built again
+  // from the best particle's final history (the graph's work once more, the node scans kept
+  // meanwhile): the settled chain drifts from the filter's final answer by every change it
+  // ignored (RBPF building_1lap, seed 2: 2.8 m without the layer, 5.2 m with it and no loop
+  // closure at all, 125 settled keyframes moved by up to 1.5 m).
+  bool rebuild_at_finish = true;
   LoopClosureOptions graph;
 };
 
@@ -70,7 +77,7 @@ class ParticleLoopClosure {
   std::vector<Rigid2d> LocalKeyframePoses(const std::vector<Rigid2d>& filter_poses) const;
   // A local pose (LocalKeyframePose * offset) at `timestamp`, corrected by the graph.
   Rigid2d Corrected(double timestamp, const Rigid2d& local) const {
-    return closure_.CorrectionAt(timestamp) * local;
+    return closure_->CorrectionAt(timestamp) * local;
   }
 
   // Submaps rendered at LocalKeyframePoses, moved to the corrected frame; finished submaps whose
@@ -88,6 +95,8 @@ class ParticleLoopClosure {
     std::vector<Eigen::Vector2f> points;
   };
   void Settle(size_t keyframe, const std::vector<Rigid2d>& filter_poses);
+  // Starts the graph again: every scan fed so far waits for its keyframe to settle anew.
+  void Restart();
   // Counts settled keyframes the filter has since moved (how often settling was premature).
   void CountRevisions(const std::vector<Rigid2d>& filter_poses);
   void ToCorrected(const Submap& local, Submap* corrected) const;
@@ -99,8 +108,9 @@ class ParticleLoopClosure {
 
   const ParticleLoopClosureOptions options_;
   const size_t per_submap_;
-  LoopClosure closure_;
+  std::unique_ptr<LoopClosure> closure_;
   std::deque<PendingScan> pending_;
+  std::vector<PendingScan> nodes_;         // fed to the graph; kept for rebuild_at_finish
   std::vector<Rigid2d> settled_;           // the layer's local keyframe poses
   std::vector<Rigid2d> filter_at_settle_;  // the filter's pose of each when it settled
   std::vector<bool> revised_;
@@ -111,6 +121,7 @@ class ParticleLoopClosure {
   std::map<int64_t, int64_t> revisions_;
   int64_t settled_shared_ = 0;  // keyframes settled because every particle shares them
   int64_t revised_count_ = 0;
+  bool rebuilt_ = false;
   double worst_revision_ = 0.0;  // metres
   size_t worst_lag_ = 0;         // keyframes not yet settled, at most
 };
