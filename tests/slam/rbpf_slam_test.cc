@@ -210,6 +210,32 @@ TEST(RbpfSlamTest, LoopClosureLayerClosesALoopTheFilterMisses) {
   EXPECT_TRUE(closed.TakeSubmapUpdates().empty());
 }
 
+// Without loop closures the layer must hand back the filter's own final trajectory, although
+// the filter moved keyframes after they settled (settling at 2 keyframes old forces that): the
+// graph is rebuilt from the final history.
+TEST(RbpfSlamTest, LoopClosureLayerWithoutLoopsEndsWithTheFiltersTrajectory) {
+  const std::vector<Rigid2d> truth = LoopPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 5);
+  ParticleSlamOptions options = SmallRbpf(1, 2);
+  options.loop_closure.enabled = false;
+  ParticleSlam filter_only(options);
+  RunLoop(&filter_only, truth, odometry);
+  filter_only.Finish();
+  options.loop_closure.enabled = true;
+  options.loop_closure.settle_keyframes = 2;
+  options.loop_closure.graph.enabled = false;  // nodes, but no searches
+  ParticleSlam layered(options);
+  RunLoop(&layered, truth, odometry);
+  layered.Finish();
+
+  EXPECT_NE(layered.Statistics().find("graph rebuilt"), std::string::npos) << layered.Statistics();
+  ASSERT_EQ(layered.trajectory().size(), filter_only.trajectory().size());
+  for (size_t i = 0; i < layered.trajectory().size(); ++i) {
+    const Rigid2d expected = filter_only.trajectory()[i].pose;
+    ASSERT_THAT(layered.trajectory()[i].pose, IsNearPose(expected, 1e-6, 1e-6)) << "scan " << i;
+  }
+}
+
 // A plain corridor longer than the laser's 8 m range, then its end wall coming into range,
 // driven with exact odometry: both particle filters must keep the distance travelled. Returns
 // near the horizon land past the map's wall ends and used to pull every match (tracker and
