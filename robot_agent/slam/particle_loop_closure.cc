@@ -18,14 +18,6 @@ bool Differ(const Rigid2d& a, const Rigid2d& b) {
   return delta.translation().norm() > 1e-5 || std::abs(delta.rotation()) > 1e-6;
 }
 
-bool Moved(const Submap& before, const Submap& after) {
-  if (Differ(before.submap_in_local, after.submap_in_local)) return true;
-  for (size_t i = 0; i < before.scan_poses.size() && i < after.scan_poses.size(); ++i) {
-    if (Differ(before.scan_poses[i].pose, after.scan_poses[i].pose)) return true;
-  }
-  return false;
-}
-
 }  // namespace
 
 int64_t NewestSharedKeyframe(const std::vector<Particle>& particles, int64_t from) {
@@ -167,38 +159,41 @@ void ParticleLoopClosure::CountRevisions(const std::vector<Rigid2d>& filter_pose
   }
 }
 
-void ParticleLoopClosure::ToCorrected(const Submap& local, Submap* corrected) const {
-  *corrected = local;
-  const std::optional<Rigid2d> anchor = closure_->SubmapInGlobal(local.submap_id);
+ParticleLoopClosure::Placement ParticleLoopClosure::ToCorrected(int64_t submap_id,
+                                                                const Placement& local) const {
+  Placement corrected = local;
+  const std::optional<Rigid2d> anchor = closure_->SubmapInGlobal(submap_id);
   const double start = local.scan_poses.empty() ? 0.0 : local.scan_poses.front().timestamp;
-  corrected->submap_in_local = anchor ? *anchor : Corrected(start, local.submap_in_local);
-  for (StampedPose& scan : corrected->scan_poses) scan.pose = Corrected(scan.timestamp, scan.pose);
+  corrected.submap_in_local = anchor ? *anchor : Corrected(start, local.submap_in_local);
+  for (StampedPose& scan : corrected.scan_poses) scan.pose = Corrected(scan.timestamp, scan.pose);
+  return corrected;
 }
 
-std::vector<Submap> ParticleLoopClosure::CorrectSubmaps(std::vector<Submap> local_updates) {
-  std::vector<Submap> updates;
-  for (Submap& local : local_updates) {
-    Published& published = published_[local.submap_id];
-    published.local = std::move(local);
-    ToCorrected(published.local, &published.corrected);
-    published.corrected.revision = revisions_[published.local.submap_id]++;
-    updates.push_back(published.corrected);
+void ParticleLoopClosure::CorrectSubmap(Submap* submap) {
+  Published& published = published_[submap->submap_id];
+  published.local = {submap->submap_in_local, submap->scan_poses};
+  published.corrected = ToCorrected(submap->submap_id, published.local);
+  submap->submap_in_local = published.corrected.submap_in_local;
+  submap->scan_poses = published.corrected.scan_poses;
+  submap->revision = ++published.revision;
+}
+
+bool ParticleLoopClosure::Moved(const Placement& before, const Placement& after) {
+  if (Differ(before.submap_in_local, after.submap_in_local)) return true;
+  for (size_t i = 0; i < before.scan_poses.size() && i < after.scan_poses.size(); ++i) {
+    if (Differ(before.scan_poses[i].pose, after.scan_poses[i].pose)) return true;
   }
-  if (!submaps_moved_) return updates;
+  return false;
+}
+
+std::vector<int64_t> ParticleLoopClosure::TakeMovedSubmaps() {
+  std::vector<int64_t> moved;
+  if (!submaps_moved_) return moved;
   submaps_moved_ = false;
-  for (auto& [id, published] : published_) {
-    if (std::any_of(updates.begin(), updates.end(),
-                    [id = id](const Submap& s) { return s.submap_id == id; })) {
-      continue;
-    }
-    Submap moved;
-    ToCorrected(published.local, &moved);
-    if (!Moved(published.corrected, moved)) continue;
-    moved.revision = revisions_[id]++;
-    published.corrected = moved;
-    updates.push_back(std::move(moved));
+  for (const auto& [id, published] : published_) {
+    if (Moved(published.corrected, ToCorrected(id, published.local))) moved.push_back(id);
   }
-  return updates;
+  return moved;
 }
 
 std::string ParticleLoopClosure::Statistics() const {

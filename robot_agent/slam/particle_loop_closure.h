@@ -14,6 +14,7 @@
 #include "robot_agent/slam/particle_filter.h"
 #include "shared/core/rigid2d.h"
 #include "shared/core/submap.h"
+#include "shared/core/trajectory.h"
 
 namespace fleetmap {
 
@@ -83,9 +84,12 @@ class ParticleLoopClosure {
     return closure_->CorrectionAt(timestamp) * local;
   }
 
-  // Submaps rendered at LocalKeyframePoses, moved to the corrected frame; finished submaps whose
-  // correction changed since they were handed out come again with a higher revision.
-  std::vector<Submap> CorrectSubmaps(std::vector<Submap> local_updates);
+  // Moves a submap rendered at LocalKeyframePoses into the corrected frame and numbers its
+  // revision (every hand-out of a submap gets a higher one).
+  void CorrectSubmap(Submap* submap);
+  // Submaps handed out whose correction changed since: to be rendered again and corrected. Only
+  // their poses are kept here, not their grids (two copies of every grid took 340 MB on intel).
+  std::vector<int64_t> TakeMovedSubmaps();
 
   size_t settled() const { return settled_.size(); }
   std::string Statistics() const;
@@ -102,11 +106,18 @@ class ParticleLoopClosure {
   void Restart();
   // Counts settled keyframes the filter has since moved (how often settling was premature).
   void CountRevisions(const std::vector<Rigid2d>& filter_poses);
-  void ToCorrected(const Submap& local, Submap* corrected) const;
+  struct Placement {
+    Rigid2d submap_in_local;
+    Trajectory scan_poses;
+  };
+  Placement ToCorrected(int64_t submap_id, const Placement& local) const;
+  // Whether the anchor or a scan pose moved by more than what rounding could explain.
+  static bool Moved(const Placement& before, const Placement& after);
 
   struct Published {
-    Submap local;      // as ParticleSubmaps rendered it (local frame)
-    Submap corrected;  // as last handed out
+    Placement local;      // as ParticleSubmaps rendered it
+    Placement corrected;  // as last handed out
+    int64_t revision = -1;
   };
 
   const ParticleLoopClosureOptions options_;
@@ -119,9 +130,8 @@ class ParticleLoopClosure {
   std::vector<bool> revised_;
   std::optional<Rigid2d> last_node_;
   bool corrections_changed_ = false;  // during the current Update or Finish
-  bool submaps_moved_ = false;        // corrections changed since the last CorrectSubmaps
+  bool submaps_moved_ = false;        // corrections changed since the last TakeMovedSubmaps
   std::map<int64_t, Published> published_;
-  std::map<int64_t, int64_t> revisions_;
   int64_t settled_shared_ = 0;  // keyframes settled because every particle shares them
   int64_t revised_count_ = 0;
   bool rebuilt_ = false;

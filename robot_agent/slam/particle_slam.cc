@@ -233,7 +233,18 @@ Rigid2d ParticleSlam::CurrentPose() const {
 
 std::vector<Submap> ParticleSlam::TakeSubmapUpdates() {
   std::vector<Submap> updates = submaps_.TakeUpdates();
-  return loop_closure_ ? loop_closure_->CorrectSubmaps(std::move(updates)) : updates;
+  if (!loop_closure_) return updates;
+  // Submaps the pose graph moved go out again, rendered anew (no grid is kept meanwhile).
+  for (int64_t id : loop_closure_->TakeMovedSubmaps()) {
+    if (std::any_of(updates.begin(), updates.end(),
+                    [id](const Submap& submap) { return submap.submap_id == id; })) {
+      continue;
+    }
+    std::optional<Submap> again = submaps_.RenderPublished(id);
+    if (again) updates.push_back(std::move(*again));
+  }
+  for (Submap& submap : updates) loop_closure_->CorrectSubmap(&submap);
+  return updates;
 }
 
 void ParticleSlam::Finish() {
