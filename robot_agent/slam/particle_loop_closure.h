@@ -20,9 +20,10 @@ namespace fleetmap {
 
 struct ParticleLoopClosureOptions {
   // Off, the particle filter reports its best particle's poses and maps unchanged. Off by
-  // default: on intel the layer takes the RBPF from 128 MB to 480 MB peak (LoopClosure keeps a
-  // match grid and a pyramid per submap) and doubles its CPU time, for unchanged intel errors;
-  // it helps where the filter does not close loops (aces 0.056-0.097 m -> 0.044 m, FastSLAM).
+  // default: on intel the layer takes the RBPF from 129 MB to 383 MB peak (LoopClosure keeps a
+  // match grid and a pyramid per submap, as for the scan-matching backend's 379 MB) and from
+  // 16 s to 37 s, for unchanged intel errors; it helps where the filter does not close loops
+  // (RBPF aces 0.048-0.097 m -> 0.044-0.045 m over seeds 1-3; FastSLAM intel, aces, rectangle).
   bool enabled = false;
   // A keyframe goes to the pose graph once every particle descends from it (no resampling can
   // change it any more) or, at the latest, once it is this many keyframes old. Resampling keeps
