@@ -127,6 +127,9 @@ int Run(int argc, char** argv) {
   app.add_option("--seed", base.seed, "Random seed (particle filter backends)")->capture_default_str();
   app.add_flag("--scan-matched-motion", base.scan_matched_motion,
                "Particle filter backends: scan-matched motion instead of raw odometry as the motion input");
+  app.add_option("--particle-loop-closure", base.particle_loop_closure,
+                 "Particle filter backends: global loop closure over the best particle (on|off)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   scenarios.erase(std::remove(scenarios.begin(), scenarios.end(), std::string()), scenarios.end());
   if (!scenarios.empty()) {

@@ -20,6 +20,7 @@ std::unique_ptr<LocalSlam> MakeLocalSlam(const BackendChoice& choice, std::strin
     options.filter.particles = choice.particles;
     options.filter.seed = choice.seed;
     options.scan_matched_motion = choice.scan_matched_motion;
+    options.loop_closure.enabled = choice.particle_loop_closure;
     return std::make_unique<ParticleSlam>(options);
   }
   std::string known;

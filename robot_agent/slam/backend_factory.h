@@ -19,6 +19,9 @@ struct BackendChoice {
   // Particle filters only: the per-scan scan-matched motion instead of raw odometry as the
   // filter's motion input (the paper's remedy for FastSLAM's particle depletion).
   bool scan_matched_motion = false;
+  // Particle filters only: global loop closure over the best particle's trajectory
+  // (ParticleSlamOptions::loop_closure; off by default, see ParticleLoopClosureOptions).
+  bool particle_loop_closure = false;
 };
 
 // The algorithm names MakeLocalSlam accepts.

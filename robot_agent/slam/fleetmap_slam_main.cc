@@ -44,6 +44,9 @@ int Run(int argc, char** argv) {
   app.add_option("--seed", choice.seed, "Random seed (particle filter backends)")->capture_default_str();
   app.add_flag("--scan-matched-motion", choice.scan_matched_motion,
                "Particle filter backends: scan-matched motion instead of raw odometry as the motion input");
+  app.add_option("--particle-loop-closure", choice.particle_loop_closure,
+                 "Particle filter backends: global loop closure over the best particle (on|off)")
+      ->capture_default_str();
   app.add_flag("--skip-out-of-order", log_options.skip_out_of_order,
                "Drop scans older than the scan before them instead of failing");
   app.add_flag("--skip-bad-lines", log_options.skip_bad_lines,

@@ -36,7 +36,12 @@ ParticleSlam::ParticleSlam(const ParticleSlamOptions& options)
         grid.max_trace_range = options.max_range;
         return grid;
       }()),
-      tracker_(options_.tracker) {}
+      tracker_(options_.tracker) {
+  if (options_.loop_closure.enabled) {
+    loop_closure_ = std::make_unique<ParticleLoopClosure>(options_.loop_closure,
+                                                          options_.keyframes_per_submap);
+  }
+}
 
 bool ParticleSlam::AddOdometry(const StampedPose& odometry, std::string* error) {
   if (!CheckInputTime(odometry.timestamp, last_time_, "odometry", error)) return false;
@@ -146,7 +151,12 @@ bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
     }
   }
   anchors_.push_back({keyframe_poses_.size() - 1, keyframe_poses_.back().inverse() * current_pose_});
+  if (loop_closure_) {
+    loop_closure_->AddScan(scan.timestamp, anchors_.back().keyframe, anchors_.back().offset,
+                           prepared.tracker_match);
+  }
   trajectory_.push_back({scan.timestamp, current_pose_});
+  trajectory_.back().pose = ReportedPose(trajectory_.size() - 1);
   return true;
 }
 
@@ -172,16 +182,79 @@ void ParticleSlam::RefreshBestHistory() {
     }
   }
   keyframe_poses_ = std::move(history);
-  submaps_.SetPoses(keyframe_poses_);
   tracker_.Rebuild(keyframe_poses_);
+  if (loop_closure_) {
+    SettleAndCorrect(changed);
+    return;
+  }
+  submaps_.SetPoses(keyframe_poses_);
   if (!changed) return;
   ++revision_;
-  for (size_t i = 0; i < anchors_.size(); ++i) {
-    const ScanAnchor& anchor = anchors_[i];
-    if (anchor.keyframe < keyframe_poses_.size()) {
-      trajectory_[i].pose = keyframe_poses_[anchor.keyframe] * anchor.offset;
-    }
+  ReportAllPoses();
+}
+
+// Hands the keyframes that settled to the loop-closure layer; the reported poses move when the
+// filter changed its unsettled history or the pose graph its corrections.
+void ParticleSlam::SettleAndCorrect(bool history_changed) {
+  const size_t settled_before = loop_closure_->settled();
+  const int64_t shared =
+      NewestSharedKeyframe(filter_.particles(), static_cast<int64_t>(settled_before));
+  const bool corrected = loop_closure_->Update(keyframe_poses_, shared);
+  submaps_.SetPoses(loop_closure_->LocalKeyframePoses(keyframe_poses_));
+  if (!history_changed && !corrected) return;
+  ++revision_;
+  if (corrected) {
+    ReportAllPoses();
+    return;
   }
+  // The layer ignores the filter's changes to settled keyframes: only later scans move.
+  for (size_t i = anchors_.size(); i-- > 0 && anchors_[i].keyframe >= settled_before;) {
+    trajectory_[i].pose = ReportedPose(i);
+  }
+}
+
+Rigid2d ParticleSlam::ReportedPose(size_t scan) const {
+  const ScanAnchor& anchor = anchors_[scan];
+  if (anchor.keyframe >= keyframe_poses_.size()) return trajectory_[scan].pose;
+  if (!loop_closure_) return keyframe_poses_[anchor.keyframe] * anchor.offset;
+  const Rigid2d local =
+      loop_closure_->LocalKeyframePose(anchor.keyframe, keyframe_poses_) * anchor.offset;
+  return loop_closure_->Corrected(trajectory_[scan].timestamp, local);
+}
+
+void ParticleSlam::ReportAllPoses() {
+  for (size_t i = 0; i < anchors_.size(); ++i) trajectory_[i].pose = ReportedPose(i);
+}
+
+Rigid2d ParticleSlam::CurrentPose() const {
+  if (!loop_closure_) return current_pose_;
+  return trajectory_.empty() ? Rigid2d() : trajectory_.back().pose;
+}
+
+std::vector<Submap> ParticleSlam::TakeSubmapUpdates() {
+  std::vector<Submap> updates = submaps_.TakeUpdates();
+  if (!loop_closure_) return updates;
+  // Submaps the pose graph moved go out again, rendered anew (no grid is kept meanwhile).
+  for (int64_t id : loop_closure_->TakeMovedSubmaps()) {
+    if (std::any_of(updates.begin(), updates.end(),
+                    [id](const Submap& submap) { return submap.submap_id == id; })) {
+      continue;
+    }
+    std::optional<Submap> again = submaps_.RenderPublished(id);
+    if (again) updates.push_back(std::move(*again));
+  }
+  for (Submap& submap : updates) loop_closure_->CorrectSubmap(&submap);
+  return updates;
+}
+
+void ParticleSlam::Finish() {
+  submaps_.Finish();
+  if (!loop_closure_) return;
+  // Every particle's history is final now: all keyframes settle and the graph closes.
+  loop_closure_->Finish(keyframe_poses_);
+  submaps_.SetPoses(loop_closure_->LocalKeyframePoses(keyframe_poses_));
+  ++revision_;
+  ReportAllPoses();
 }
 
 std::string ParticleSlam::Statistics() const {
@@ -192,6 +265,7 @@ std::string ParticleSlam::Statistics() const {
       << " scans carried by odometry, " << revision_ << " trajectory revisions; map tiles "
       << filter_.UniqueTileBytes() / (1024 * 1024) << " MiB unique of "
       << filter_.TotalTileBytes() / (1024 * 1024) << " MiB referenced";
+  if (loop_closure_) out << "; " << loop_closure_->Statistics();
   return out.str();
 }
 

@@ -10,6 +10,7 @@
 #include "robot_agent/slam/local_slam.h"
 #include "robot_agent/slam/odometry_buffer.h"
 #include "robot_agent/slam/particle_filter.h"
+#include "robot_agent/slam/particle_loop_closure.h"
 #include "robot_agent/slam/particle_submaps.h"
 #include "robot_agent/slam/particle_tracker.h"
 #include "robot_agent/slam/thread_pool.h"
@@ -47,6 +48,10 @@ struct ParticleSlamOptions {
   int threads = 2;
   int keyframes_per_submap = 10;
   OccupancyGridOptions submap_grid;
+  // Global loop closure over the best particle's settled keyframes (particle_loop_closure.h):
+  // the filter alone does not close large loops (its particles have long lost the hypothesis
+  // that would). When enabled, the reported trajectory and submaps are the corrected ones.
+  ParticleLoopClosureOptions loop_closure;
 
   // Grid FastSLAM (motion-model proposal, resampling at every update) and the RBPF with
   // improved proposal and selective resampling (GMapping-like defaults).
@@ -57,18 +62,20 @@ struct ParticleSlamOptions {
 // Local SLAM by a Rao-Blackwellized particle filter: grid FastSLAM or the improved-proposal
 // RBPF, by options. The reported trajectory and submaps are the best particle's; every scan's
 // pose is stored relative to its keyframe, so a resampling that changes the best particle's
-// history revises the whole trajectory (trajectory_revision() grows).
+// history revises the whole trajectory (trajectory_revision() grows). With loop closure on,
+// every reported pose and submap is moved by the pose graph's correction, and a graph
+// optimisation revises them too.
 class ParticleSlam : public LocalSlam {
  public:
   explicit ParticleSlam(const ParticleSlamOptions& options);
 
   bool AddOdometry(const StampedPose& odometry, std::string* error) override;
   bool AddScan(const LaserScan& scan, std::string* error) override;
-  Rigid2d CurrentPose() const override { return current_pose_; }
+  Rigid2d CurrentPose() const override;
   const Trajectory& trajectory() const override { return trajectory_; }
   int64_t trajectory_revision() const override { return revision_; }
-  std::vector<Submap> TakeSubmapUpdates() override { return submaps_.TakeUpdates(); }
-  void Finish() override { submaps_.Finish(); }
+  std::vector<Submap> TakeSubmapUpdates() override;
+  void Finish() override;
   std::string Statistics() const override;
 
   const ParticleFilter& filter() const { return filter_; }
@@ -88,6 +95,10 @@ class ParticleSlam : public LocalSlam {
                                                     const Rigid2d& predicted) const;
   void AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points);
   void RefreshBestHistory();
+  void SettleAndCorrect(bool history_changed);
+  // The reported pose of scan `i` from its anchor (through the loop-closure layer when on).
+  Rigid2d ReportedPose(size_t scan) const;
+  void ReportAllPoses();
 
   struct ScanAnchor {
     size_t keyframe = 0;
@@ -100,6 +111,7 @@ class ParticleSlam : public LocalSlam {
   OdometryBuffer odometry_;
   ParticleSubmaps submaps_;
   ParticleTracker tracker_;
+  std::unique_ptr<ParticleLoopClosure> loop_closure_;  // null when off
   Trajectory trajectory_;
   std::vector<ScanAnchor> anchors_;
   std::vector<Rigid2d> keyframe_poses_;  // the best particle's

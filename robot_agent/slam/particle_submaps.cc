@@ -61,6 +61,15 @@ Submap ParticleSubmaps::Render(size_t group, bool finished) const {
   return submap;
 }
 
+std::optional<Submap> ParticleSubmaps::RenderPublished(int64_t submap_id) const {
+  if (submap_id < 0 || static_cast<size_t>(submap_id) >= groups_.size()) return std::nullopt;
+  const Group& group = groups_[static_cast<size_t>(submap_id)];
+  if (group.revision < 0) return std::nullopt;
+  Submap submap = Render(static_cast<size_t>(submap_id), group.published_finished);
+  submap.revision = group.revision;
+  return submap;
+}
+
 std::vector<Submap> ParticleSubmaps::TakeUpdates() {
   std::vector<Submap> updates;
   if (!dirty_) return updates;

@@ -2,6 +2,7 @@
 #define FLEETMAP_ROBOT_AGENT_SLAM_PARTICLE_SUBMAPS_H_
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,9 @@ class ParticleSubmaps {
   void Finish();
   // Submaps new or changed since the last call.
   std::vector<Submap> TakeUpdates();
+  // A submap handed out before, rendered again at the current poses (grids are not kept: the
+  // scans are); empty for ids never handed out.
+  std::optional<Submap> RenderPublished(int64_t submap_id) const;
 
  private:
   struct Group {

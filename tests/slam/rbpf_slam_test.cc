@@ -1,3 +1,7 @@
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -35,8 +39,9 @@ std::vector<Rigid2d> LoopPoses() {
   return poses;
 }
 
-// Odometry with a heading drift (0.5 degree per metre) and random noise.
-std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned seed) {
+// Odometry with a heading drift (`drift_deg_per_m`) and random noise.
+std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned seed,
+                                   double drift_deg_per_m = 0.5) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, 1.0);
   std::vector<Rigid2d> odometry = {truth.front()};
@@ -44,14 +49,17 @@ std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned s
     const Rigid2d step = truth[i - 1].inverse() * truth[i];
     const double d = step.translation().norm();
     const Rigid2d noisy(step.x() * (1.0 + 0.03 * noise(rng)), step.y() + 0.01 * d * noise(rng),
-                        step.rotation() + 0.5 * kDegree * d + 0.02 * std::abs(step.rotation()) * noise(rng));
+                        step.rotation() + drift_deg_per_m * kDegree * d +
+                            0.02 * std::abs(step.rotation()) * noise(rng));
     odometry.push_back(odometry.back() * noisy);
   }
   return odometry;
 }
 
-// Runs a backend over the simulated loop (scans with 0.5 cm range noise).
-void RunLoop(LocalSlam* slam, const std::vector<Rigid2d>& truth, const std::vector<Rigid2d>& odometry) {
+// Runs a backend over the simulated loop (scans with 0.5 cm range noise); `after_scan`, when
+// set, runs after every scan.
+void RunLoop(LocalSlam* slam, const std::vector<Rigid2d>& truth, const std::vector<Rigid2d>& odometry,
+             const std::function<void()>& after_scan = nullptr) {
   const testing::SegmentWorld world = testing::CorridorRing();
   std::mt19937 rng(7);
   std::normal_distribution<float> range_noise(0.0f, 0.005f);
@@ -66,6 +74,7 @@ void RunLoop(LocalSlam* slam, const std::vector<Rigid2d>& truth, const std::vect
     scan.timestamp = t;
     ASSERT_TRUE(slam->AddOdometry({t, odometry[i]}, &error)) << error;
     ASSERT_TRUE(slam->AddScan(scan, &error)) << error;
+    if (after_scan) after_scan();
   }
 }
 
@@ -134,8 +143,11 @@ TEST(RbpfSlamTest, SameSeedAndThreadsGiveIdenticalResults) {
   const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 5);
   std::vector<Trajectory> runs;
   for (int threads : {2, 2, 1}) {
-    ParticleSlam slam(SmallRbpf(42, threads));
+    ParticleSlamOptions options = SmallRbpf(42, threads);
+    options.loop_closure.enabled = true;  // the pose graph must not break determinism either
+    ParticleSlam slam(options);
     RunLoop(&slam, truth, odometry);
+    slam.Finish();
     runs.push_back(slam.trajectory());
   }
   for (size_t r = 1; r < runs.size(); ++r) {
@@ -145,6 +157,109 @@ TEST(RbpfSlamTest, SameSeedAndThreadsGiveIdenticalResults) {
       ASSERT_EQ(runs[r][i].pose.y(), runs[0][i].pose.y()) << "run " << r << " scan " << i;
       ASSERT_EQ(runs[r][i].pose.rotation(), runs[0][i].pose.rotation()) << "run " << r << " scan " << i;
     }
+  }
+}
+
+// The largest distance between a submap's anchor and the true position of its first scan.
+double WorstAnchorError(const std::vector<Submap>& submaps, const std::vector<Rigid2d>& truth) {
+  double worst = 0.0;
+  for (const Submap& submap : submaps) {
+    if (submap.scan_poses.empty()) continue;
+    const double start = submap.scan_poses.front().timestamp;
+    const size_t index = static_cast<size_t>(std::lround(start / 0.1));
+    const Rigid2d expected = truth.front().inverse() * truth[index];
+    worst = std::max(worst, (submap.submap_in_local.translation() - expected.translation()).norm());
+  }
+  return worst;
+}
+
+// Three particles lose the loop: the filter ends 0.6 m off. The loop-closure layer over its
+// settled keyframes closes it, and the submaps come out at the corrected anchors, consistent
+// with the corrected trajectory; submaps handed out before the graph moved them come again
+// with a higher revision.
+TEST(RbpfSlamTest, LoopClosureLayerClosesALoopTheFilterMisses) {
+  const std::vector<Rigid2d> truth = LoopPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 3);
+  ParticleSlamOptions options = SmallRbpf(1, 2);
+  options.filter.particles = 3;
+  options.loop_closure.enabled = false;
+  ParticleSlam filter_only(options);
+  RunLoop(&filter_only, truth, odometry);
+  filter_only.Finish();
+  options.loop_closure.enabled = true;
+  ParticleSlam closed(options);
+  std::map<int64_t, Submap> latest;  // as an uploader would keep them
+  int republished = 0;
+  auto take_updates = [&] {
+    for (Submap& submap : closed.TakeSubmapUpdates()) {
+      const auto before = latest.find(submap.submap_id);
+      if (before != latest.end()) {
+        EXPECT_GT(submap.revision, before->second.revision);
+        if (before->second.finished) ++republished;
+      }
+      latest[submap.submap_id] = std::move(submap);
+    }
+  };
+  int scans = 0;
+  RunLoop(&closed, truth, odometry, [&] {
+    if (++scans % 20 == 0) take_updates();
+  });
+  closed.Finish();
+  take_updates();
+
+  const double filter_error = EndError(filter_only, truth);
+  EXPECT_GT(filter_error, 0.4) << filter_only.Statistics();  // else the test means nothing
+  EXPECT_LT(EndError(closed, truth), 0.15) << closed.Statistics();
+  EXPECT_LT(EndError(closed, truth), filter_error / 3.0);
+
+  const std::vector<Submap> filter_submaps = filter_only.TakeSubmapUpdates();
+  std::vector<Submap> submaps;
+  for (const auto& [id, submap] : latest) submaps.push_back(submap);
+  ASSERT_GE(submaps.size(), 3u);
+  EXPECT_GT(republished, 0);
+  EXPECT_GT(WorstAnchorError(filter_submaps, truth), 0.3);
+  EXPECT_LT(WorstAnchorError(submaps, truth), 0.2);
+  for (const Submap& submap : submaps) {
+    EXPECT_TRUE(submap.finished);
+    ASSERT_FALSE(submap.scan_poses.empty());
+    // The anchor sits at the group's first keyframe, and the scan poses are the trajectory's.
+    const Eigen::Vector2d first_scan = submap.scan_poses.front().pose.translation();
+    EXPECT_LT((submap.submap_in_local.translation() - first_scan).norm(), 0.05)
+        << "submap " << submap.submap_id;
+    double worst = 0.0;
+    for (const StampedPose& scan : submap.scan_poses) {
+      const size_t index = static_cast<size_t>(std::lround(scan.timestamp / 0.1));
+      const Rigid2d error = closed.trajectory()[index].pose.inverse() * scan.pose;
+      worst = std::max({worst, error.translation().norm(), std::abs(error.rotation())});
+    }
+    EXPECT_LT(worst, 1e-9) << "submap " << submap.submap_id;
+  }
+  EXPECT_TRUE(closed.TakeSubmapUpdates().empty());
+}
+
+// Without loop closures the layer must hand back the filter's own final trajectory, although
+// the filter moved keyframes after they settled (settling at 2 keyframes old forces that): the
+// graph is rebuilt from the final history.
+TEST(RbpfSlamTest, LoopClosureLayerWithoutLoopsEndsWithTheFiltersTrajectory) {
+  const std::vector<Rigid2d> truth = LoopPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 5);
+  ParticleSlamOptions options = SmallRbpf(1, 2);
+  options.loop_closure.enabled = false;
+  ParticleSlam filter_only(options);
+  RunLoop(&filter_only, truth, odometry);
+  filter_only.Finish();
+  options.loop_closure.enabled = true;
+  options.loop_closure.settle_keyframes = 2;
+  options.loop_closure.graph.enabled = false;  // nodes, but no searches
+  ParticleSlam layered(options);
+  RunLoop(&layered, truth, odometry);
+  layered.Finish();
+
+  EXPECT_NE(layered.Statistics().find("graph rebuilt"), std::string::npos) << layered.Statistics();
+  ASSERT_EQ(layered.trajectory().size(), filter_only.trajectory().size());
+  for (size_t i = 0; i < layered.trajectory().size(); ++i) {
+    const Rigid2d expected = filter_only.trajectory()[i].pose;
+    ASSERT_THAT(layered.trajectory()[i].pose, IsNearPose(expected, 1e-6, 1e-6)) << "scan " << i;
   }
 }
 
@@ -215,6 +330,21 @@ TEST(RbpfSlamTest, FactoryPassesTheScanMatchedMotionChoice) {
   RunLoop(&odometry_driven, truth, odometry);
   EXPECT_THAT(made->CurrentPose(), IsNearPose(by_hand.CurrentPose(), 1e-12, 1e-12));
   EXPECT_FALSE((made->CurrentPose().translation() - odometry_driven.CurrentPose().translation()).norm() < 1e-9);
+}
+
+// The tools' --particle-loop-closure reaches the backend (its statistics report the layer).
+TEST(RbpfSlamTest, FactoryPassesTheLoopClosureChoice) {
+  std::string error;
+  for (bool on : {false, true}) {
+    BackendChoice choice;
+    choice.algorithm = "rbpf";
+    choice.particles = 3;
+    choice.particle_loop_closure = on;
+    std::unique_ptr<LocalSlam> made = MakeLocalSlam(choice, &error);
+    ASSERT_NE(made, nullptr) << error;
+    const std::string statistics = made->Statistics();
+    EXPECT_EQ(statistics.find("loop closure") != std::string::npos, on) << statistics;
+  }
 }
 
 }  // namespace
