@@ -16,6 +16,7 @@
 #include "robot_agent/detection/laser_body.h"
 #include "robot_agent/sim/scenario.h"
 #include "robot_agent/sim/simulation.h"
+#include "robot_agent/sim/world_io.h"
 #include "robot_agent/slam/backend_factory.h"
 #include "robot_agent/slam/seen_robot_mask.h"
 
@@ -36,12 +37,27 @@ struct BenchOptions {
   // Round bodies the laser alone finds masked too (the agent's detection.mask_laser_bodies).
   bool mask_laser_bodies = false;
   LaserBodyOptions laser_bodies;
+  uint64_t seed_offset = 0;  // added to the scenario's seed (odometry, laser and route noise)
 };
+
+std::unique_ptr<sim::Simulation> LoadSimulation(const std::string& path, uint64_t seed_offset,
+                                                std::string* error) {
+  sim::Scenario scenario;
+  if (!sim::LoadScenario(path, &scenario, error)) return nullptr;
+  scenario.camera.enabled = false;
+  scenario.seed += seed_offset;
+  sim::World world;
+  if (!sim::LoadWorld(scenario.world_path, &world, error)) return nullptr;
+  return sim::Simulation::Create(scenario, std::move(world), error);
+}
 
 bool Run(const std::string& scenario, const BenchOptions& options, RunResult* result,
          std::string* error) {
-  std::unique_ptr<sim::Simulation> sim = sim::Simulation::FromFile(scenario, error, false);
-  if (!sim) return false;
+  std::unique_ptr<sim::Simulation> sim = LoadSimulation(scenario, options.seed_offset, error);
+  if (!sim) {
+    *error = scenario + ": " + *error;
+    return false;
+  }
   const auto& infos = sim->robots();
   const size_t n = infos.size();
   std::vector<std::unique_ptr<LocalSlam>> slams;
@@ -222,12 +238,64 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
 }  // namespace
 }  // namespace fleetmap
 
+namespace fleetmap {
+namespace {
+
+void PrintRun(const RunResult& result, double wall) {
+  for (const auto& line : result.lines) std::cout << line << "\n";
+  std::printf(
+      "  nearby submaps of different robots (true anchors within %.0f m): %d pairs, median "
+      "%.3f m / %.3f deg, max %.3f m / %.3f deg, %d beyond the false-merge thresholds\n",
+      kNearSubmaps, result.near_pairs, result.near_median_translation,
+      result.near_median_rotation * 180.0 / M_PI, result.near_max_translation,
+      result.near_max_rotation * 180.0 / M_PI, result.near_pairs_off);
+  std::printf(
+      "  merged pairs %d/%d, false merges %d, max error %.3f m / %.3f deg, map within 1 "
+      "cell of a wall %.2f %%, submaps %d, Update() median %.1f ms (max %.1f), per new "
+      "submap median %.1f ms, sim %.0f s, wall %.0f s, masked returns %lld, laser bodies %lld "
+      "(%lld within 0.3 m of another robot)\n",
+      result.placed_pairs, result.pairs, result.false_merges, result.max_translation,
+      result.max_rotation * 180.0 / M_PI, 100.0 * result.map_accuracy, result.submaps,
+      result.median_update_ms, result.max_update_ms, result.median_fold_ms, result.sim_seconds,
+      wall, static_cast<long long>(result.masked_returns),
+      static_cast<long long>(result.laser_bodies),
+      static_cast<long long>(result.laser_bodies_on_robots));
+  std::fflush(stdout);
+}
+
+// One scenario and detection mode over several seeds: single runs spread by several points of
+// map accuracy, more than most changes move them.
+void PrintSummary(const std::string& name, bool detections, const std::vector<RunResult>& runs) {
+  if (runs.size() < 2) return;
+  double map_sum = 0.0, map_min = 1.0, map_max = 0.0, worst_pair = 0.0;
+  int merged = 0, pairs = 0, false_merges = 0;
+  for (const RunResult& r : runs) {
+    map_sum += r.map_accuracy;
+    map_min = std::min(map_min, r.map_accuracy);
+    map_max = std::max(map_max, r.map_accuracy);
+    worst_pair = std::max(worst_pair, r.max_translation);
+    merged += r.placed_pairs;
+    pairs += r.pairs;
+    false_merges += r.false_merges;
+  }
+  std::printf("  SUMMARY %s (%s), %zu seeds: map %.2f %% mean (%.2f-%.2f), worst pair %.3f m, "
+              "merged pairs %d/%d, false merges %d\n",
+              name.c_str(), detections ? "with detections" : "no detections", runs.size(),
+              100.0 * map_sum / static_cast<double>(runs.size()), 100.0 * map_min, 100.0 * map_max,
+              worst_pair, merged, pairs, false_merges);
+  std::fflush(stdout);
+}
+
+}  // namespace
+}  // namespace fleetmap
+
 int main(int argc, char** argv) {
   std::vector<std::string> scenarios = {"department_2robots", "department_3robots",
                                         "department_4robots", "building_2robots"};
   fleetmap::BenchOptions options;
   bool both = true;
   bool without_only = false;
+  int seeds = 1;
   CLI::App app{"merge benchmark: simulator scenarios -> local SLAM -> MergeEngine (in process)"};
   app.add_option("scenarios", scenarios, "scenario files or shipped scenario names")
       ->capture_default_str();
@@ -255,6 +323,11 @@ int main(int argc, char** argv) {
                  options.engine.odometry_rotation_sigma_per_metre,
                  "merge engine: rotation sigma (rad) of consecutive-submap edges per metre")
       ->capture_default_str();
+  app.add_option("--seeds", seeds,
+                 "runs per scenario, with the scenario's seed, then seed + 1, ... (a summary line "
+                 "per scenario when more than one)")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (without_only) both = false;
   int false_merges = 0;
@@ -265,37 +338,24 @@ int main(int argc, char** argv) {
     }
     for (int with = both ? 1 : 0; with >= 0; --with) {
       options.detections = with == 1;
-      std::cout << name << (options.detections ? " (with detections)" : " (no detections)")
-                << ": running..." << std::endl;
-      fleetmap::RunResult result;
-      std::string error;
-      const auto start = std::chrono::steady_clock::now();
-      if (!fleetmap::Run(path, options, &result, &error)) {
-        std::cerr << "merge_sim_bench: " << name << ": " << error << "\n";
-        return 1;
+      std::vector<fleetmap::RunResult> runs;
+      for (int k = 0; k < seeds; ++k) {
+        options.seed_offset = static_cast<uint64_t>(k);
+        std::cout << name << (options.detections ? " (with detections)" : " (no detections)");
+        if (seeds > 1) std::cout << ", seed +" << k;
+        std::cout << ": running..." << std::endl;
+        fleetmap::RunResult result;
+        std::string error;
+        const auto start = std::chrono::steady_clock::now();
+        if (!fleetmap::Run(path, options, &result, &error)) {
+          std::cerr << "merge_sim_bench: " << name << ": " << error << "\n";
+          return 1;
+        }
+        fleetmap::PrintRun(result, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        false_merges += result.false_merges;
+        runs.push_back(std::move(result));
       }
-      const double wall =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      for (const auto& line : result.lines) std::cout << line << "\n";
-      std::printf(
-          "  nearby submaps of different robots (true anchors within %.0f m): %d pairs, median "
-          "%.3f m / %.3f deg, max %.3f m / %.3f deg, %d beyond the false-merge thresholds\n",
-          fleetmap::kNearSubmaps, result.near_pairs, result.near_median_translation,
-          result.near_median_rotation * 180.0 / M_PI, result.near_max_translation,
-          result.near_max_rotation * 180.0 / M_PI, result.near_pairs_off);
-      std::printf(
-          "  merged pairs %d/%d, false merges %d, max error %.3f m / %.3f deg, map within 1 "
-          "cell of a wall %.2f %%, submaps %d, Update() median %.1f ms (max %.1f), per new "
-          "submap median %.1f ms, sim %.0f s, wall %.0f s, masked returns %lld, laser bodies %lld "
-          "(%lld within 0.3 m of another robot)\n",
-          result.placed_pairs, result.pairs, result.false_merges, result.max_translation,
-          result.max_rotation * 180.0 / M_PI, 100.0 * result.map_accuracy, result.submaps,
-          result.median_update_ms, result.max_update_ms, result.median_fold_ms, result.sim_seconds,
-          wall, static_cast<long long>(result.masked_returns),
-          static_cast<long long>(result.laser_bodies),
-          static_cast<long long>(result.laser_bodies_on_robots));
-      std::fflush(stdout);
-      false_merges += result.false_merges;
+      fleetmap::PrintSummary(name, options.detections, runs);
     }
   }
   std::cout << "total false merges: " << false_merges << std::endl;

@@ -25,14 +25,16 @@ double EndPointError(const SimSlamRun& run) {
 // 427 m of corridors with long plain walls. At the lap's end, the scan of the corridor corner
 // where the robot started also matches the room behind that corner's walls, 3.4 m away, with a
 // perfect score; that closure left the lap 3.4 m off until loop closure learned to refuse
-// matches that see the map's walls from behind.
+// matches that see the map's walls from behind. Without a closure the lap ends 0.1-0.4 m off:
+// along the plain corridors the position is odometry's, and the least change anywhere in local
+// SLAM moves it within that range, so the bound is the alias's, not the benchmark's figure.
 TEST(SimulatedLapTest, ScanMatchingClosesTheBuildingLap) {
   ScanMatchingSlam slam;
   SimSlamRun run;
   std::string error;
   ASSERT_TRUE(RunSimulatedScenario(Scenario("building_1lap"), &slam, &run, &error)) << error;
   ASSERT_GT(run.estimate.size(), 5000u);
-  EXPECT_LT(EndPointError(run), 0.3) << slam.Statistics();
+  EXPECT_LT(EndPointError(run), 1.0) << slam.Statistics();
 }
 
 }  // namespace
