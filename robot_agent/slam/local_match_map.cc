@@ -25,7 +25,15 @@ void LocalMatchMap::Insert(const std::vector<Eigen::Vector2f>& points_in_robot,
   }
   // Decided once, against the fullest grid, so that a grid started a moment ago (which has seen
   // nothing yet) does not map the moving object either.
-  const std::vector<Eigen::Vector2f> kept = WithoutMovedObjects(points_in_robot, robot_in_local);
+  std::vector<Eigen::Vector2f> kept;
+  kept.reserve(points_in_robot.size());
+  const MatchGrid& fullest = *grids_.front().grid;
+  for (const Eigen::Vector2f& p : points_in_robot) {
+    if (options_.moved_object_clearance <= 0.0 ||
+        !fullest.SeenFree(robot_in_local * Eigen::Vector2d(p.cast<double>()), options_.moved_object_clearance)) {
+      kept.push_back(p);
+    }
+  }
   for (Entry& entry : grids_) {
     entry.grid->AddPoints(kept, free_ends_in_robot, robot_in_local);
     ++entry.scans;
@@ -34,20 +42,6 @@ void LocalMatchMap::Insert(const std::vector<Eigen::Vector2f>& points_in_robot,
     grids_.erase(grids_.begin());
   }
   ++inserted_;
-}
-
-std::vector<Eigen::Vector2f> LocalMatchMap::WithoutMovedObjects(
-    const std::vector<Eigen::Vector2f>& points_in_robot, const Rigid2d& robot_in_local) const {
-  if (options_.moved_object_clearance <= 0.0) return points_in_robot;
-  std::vector<Eigen::Vector2f> kept;
-  kept.reserve(points_in_robot.size());
-  const MatchGrid& fullest = target();
-  for (const Eigen::Vector2f& p : points_in_robot) {
-    if (!fullest.SeenFree(robot_in_local * Eigen::Vector2d(p.cast<double>()), options_.moved_object_clearance)) {
-      kept.push_back(p);
-    }
-  }
-  return kept;
 }
 
 }  // namespace fleetmap

@@ -46,10 +46,6 @@ class LocalMatchMap {
   // space they crossed counts as seen.
   void Insert(const std::vector<Eigen::Vector2f>& points_in_robot,
               const std::vector<Eigen::Vector2f>& free_ends_in_robot, const Rigid2d& robot_in_local);
-  // `points_in_robot` (order kept) less those that, at `robot_in_local`, land in space the map
-  // saw free: returns off things that moved there (see moved_object_clearance).
-  std::vector<Eigen::Vector2f> WithoutMovedObjects(const std::vector<Eigen::Vector2f>& points_in_robot,
-                                                   const Rigid2d& robot_in_local) const;
   // The grid to match against; empty before the first insertion.
   const MatchGrid& target() const { return *grids_.front().grid; }
   int inserted_scans() const { return inserted_; }

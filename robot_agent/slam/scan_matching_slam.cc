@@ -144,12 +144,7 @@ Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& points,
     }
   }
   if (options_.min_observed_normals > 0.0 && !odometry_.empty()) {
-    // Returns off things that moved into space the map saw free (a robot, a person; the map
-    // leaves them out too) do not count: a robot faces every way, and counted, it makes a
-    // corridor's axis look observed, so the match follows it as it drives. Two robots meeting
-    // head on in department_3robots slipped 0.5 m and 0.25 m along their corridor that way.
-    const std::vector<Eigen::Vector2f> structure = local_map_.WithoutMovedObjects(beam_points, match->pose);
-    const Rigid2d kept = KeepObservedDirections(predicted, match->pose, NormalScatter(structure),
+    const Rigid2d kept = KeepObservedDirections(predicted, match->pose, NormalScatter(beam_points),
                                                 options_.min_observed_normals);
     if ((kept.translation() - match->pose.translation()).norm() > 1e-9) ++counters_.degenerate;
     return kept;
