@@ -1,4 +1,4 @@
-// Local SLAM on the simulator's long lap, in process: the loop must close at the lap's end.
+// Local SLAM on the simulator's long lap, in process: the lap must not end on a wrong loop closure.
 #include <memory>
 #include <string>
 
