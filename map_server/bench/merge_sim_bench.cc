@@ -351,7 +351,8 @@ int main(int argc, char** argv) {
           std::cerr << "merge_sim_bench: " << name << ": " << error << "\n";
           return 1;
         }
-        fleetmap::PrintRun(result, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        const auto elapsed = std::chrono::steady_clock::now() - start;
+        fleetmap::PrintRun(result, std::chrono::duration<double>(elapsed).count());
         false_merges += result.false_merges;
         runs.push_back(std::move(result));
       }

@@ -151,9 +151,9 @@ void LoopClosure::SearchLoops(int node, const std::vector<Eigen::Vector2f>& poin
       continue;
     }
     // Beams start at the robot's origin, as they did when the target's seen space was marked.
-    const double behind =
-        WallsSeenFromBehind(points, Eigen::Vector2d::Zero(), *target.grid, refined.pose, options_.seen_from_behind)
-            .fraction();
+    const double behind = WallsSeenFromBehind(points, Eigen::Vector2d::Zero(), *target.grid,
+                                              refined.pose, options_.seen_from_behind)
+                              .fraction();
     if (behind > options_.max_seen_from_behind) continue;
     candidates_.push_back({node, static_cast<int>(s), refined.pose});
     ++candidate_count_;

@@ -4,7 +4,8 @@ namespace fleetmap {
 
 SeenFromBehind WallsSeenFromBehind(const std::vector<Eigen::Vector2f>& points_in_robot,
                                    const Eigen::Vector2d& sensor_in_robot, const MatchGrid& grid,
-                                   const Rigid2d& robot_in_grid, const SeenFromBehindOptions& options) {
+                                   const Rigid2d& robot_in_grid,
+                                   const SeenFromBehindOptions& options) {
   SeenFromBehind result;
   const Eigen::Vector2d sensor = robot_in_grid * sensor_in_robot;
   for (const Eigen::Vector2f& p : points_in_robot) {

@@ -1,9 +1,8 @@
 #ifndef FLEETMAP_SHARED_MATCHING_SEEN_FROM_BEHIND_H_
 #define FLEETMAP_SHARED_MATCHING_SEEN_FROM_BEHIND_H_
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "shared/core/rigid2d.h"
 #include "shared/matching/match_grid.h"

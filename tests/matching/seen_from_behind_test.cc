@@ -10,7 +10,8 @@ namespace {
 // Two corridors 2.4 m wide side by side, split by a 0.2 m wall along y = 0 (its faces at
 // y = -0.1 and 0.1), closed at x = 0 and x = 12.
 testing::SegmentWorld TwinCorridors() {
-  testing::SegmentWorld world = testing::BoxWorld(Eigen::Vector2d(0.0, -2.5), Eigen::Vector2d(12.0, 2.5));
+  testing::SegmentWorld world =
+      testing::BoxWorld(Eigen::Vector2d(0.0, -2.5), Eigen::Vector2d(12.0, 2.5));
   testing::AddBox(Eigen::Vector2d(0.0, -0.1), Eigen::Vector2d(12.0, 0.1), &world);
   return world;
 }
@@ -37,9 +38,11 @@ MatchGrid LowerCorridorMap(const testing::SegmentWorld& world) {
 TEST(SeenFromBehindTest, AScanWhereItWasTakenSeesWallsFromTheFront) {
   const testing::SegmentWorld world = TwinCorridors();
   const MatchGrid map = LowerCorridorMap(world);
-  for (const Rigid2d& pose : {Rigid2d(Eigen::Vector2d(3.0, -1.3), 0.0), Rigid2d(Eigen::Vector2d(6.0, -0.8), 2.0),
-                              Rigid2d(Eigen::Vector2d(9.5, -1.6), -2.8)}) {
-    const SeenFromBehind judged = WallsSeenFromBehind(ScanAt(world, pose), Eigen::Vector2d::Zero(), map, pose);
+  for (const Rigid2d& pose :
+       {Rigid2d(Eigen::Vector2d(3.0, -1.3), 0.0), Rigid2d(Eigen::Vector2d(6.0, -0.8), 2.0),
+        Rigid2d(Eigen::Vector2d(9.5, -1.6), -2.8)}) {
+    const SeenFromBehind judged =
+        WallsSeenFromBehind(ScanAt(world, pose), Eigen::Vector2d::Zero(), map, pose);
     EXPECT_GT(judged.on_walls, 100) << pose;
     EXPECT_LT(judged.fraction(), 0.1) << pose;
   }
@@ -65,8 +68,8 @@ TEST(SeenFromBehindTest, NothingIsBehindInAGridThatDoesNotTrackWhatItSaw) {
   const Rigid2d pose(Eigen::Vector2d(3.0, -1.3), 0.0);
   untracked.AddPoints(ScanAt(world, pose), pose);
   const Rigid2d placed(Eigen::Vector2d(8.0, 1.1), 0.0);
-  EXPECT_EQ(WallsSeenFromBehind(ScanAt(world, Rigid2d(Eigen::Vector2d(8.0, 1.3), 0.0)), Eigen::Vector2d::Zero(),
-                                untracked, placed)
+  EXPECT_EQ(WallsSeenFromBehind(ScanAt(world, Rigid2d(Eigen::Vector2d(8.0, 1.3), 0.0)),
+                                Eigen::Vector2d::Zero(), untracked, placed)
                 .behind,
             0);
   EXPECT_EQ(WallsSeenFromBehind({}, Eigen::Vector2d::Zero(), untracked, pose).fraction(), 0.0);

@@ -1,8 +1,8 @@
-// Local SLAM on the simulator's long lap, in process: the lap must not end on a wrong loop closure.
+// Local SLAM on the simulator's long lap, in process: no wrong loop closure at the lap's end.
+#include <gtest/gtest.h>
+
 #include <memory>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "robot_agent/bench/sim_slam_run.h"
 #include "robot_agent/slam/scan_matching_slam.h"
