@@ -303,6 +303,11 @@ int main(int argc, char** argv) {
   app.add_flag("--verbose", options.verbose, "print every merge event");
   app.add_option("--feed-period", options.feed_period, "sim seconds between engine updates")
       ->capture_default_str();
+  app.add_option("--detection-period", options.detection_period,
+                 "sim seconds between two synthetic detections of one ordered pair (the agents' "
+                 "camera runs at the scenario's camera rate, 5 Hz in the shipped ones)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--outliers", options.outlier_fraction,
                  "fraction of detections corrupted (moved by 1-5 m in a random direction)")
       ->capture_default_str();
