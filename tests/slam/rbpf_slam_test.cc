@@ -39,9 +39,8 @@ std::vector<Rigid2d> LoopPoses() {
   return poses;
 }
 
-// Odometry with a heading drift (`drift_deg_per_m`) and random noise.
-std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned seed,
-                                   double drift_deg_per_m = 0.5) {
+// Odometry with a heading drift (0.5 degree per metre) and random noise.
+std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, 1.0);
   std::vector<Rigid2d> odometry = {truth.front()};
@@ -49,8 +48,7 @@ std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned s
     const Rigid2d step = truth[i - 1].inverse() * truth[i];
     const double d = step.translation().norm();
     const Rigid2d noisy(step.x() * (1.0 + 0.03 * noise(rng)), step.y() + 0.01 * d * noise(rng),
-                        step.rotation() + drift_deg_per_m * kDegree * d +
-                            0.02 * std::abs(step.rotation()) * noise(rng));
+                        step.rotation() + 0.5 * kDegree * d + 0.02 * std::abs(step.rotation()) * noise(rng));
     odometry.push_back(odometry.back() * noisy);
   }
   return odometry;

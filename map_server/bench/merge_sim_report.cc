@@ -1,0 +1,53 @@
+#include "map_server/bench/merge_sim_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+namespace fleetmap {
+
+void PrintRun(const RunResult& result, double wall) {
+  for (const auto& line : result.lines) std::cout << line << "\n";
+  std::printf(
+      "  nearby submaps of different robots (true anchors within %.0f m): %d pairs, median "
+      "%.3f m / %.3f deg, max %.3f m / %.3f deg, %d beyond the false-merge thresholds\n",
+      kNearSubmaps, result.near_pairs, result.near_median_translation,
+      result.near_median_rotation * 180.0 / M_PI, result.near_max_translation,
+      result.near_max_rotation * 180.0 / M_PI, result.near_pairs_off);
+  std::printf(
+      "  merged pairs %d/%d, false merges %d, max error %.3f m / %.3f deg, map within 1 "
+      "cell of a wall %.2f %%, submaps %d, Update() median %.1f ms (max %.1f), per new "
+      "submap median %.1f ms, sim %.0f s, wall %.0f s, masked returns %lld, laser bodies %lld "
+      "(%lld within 0.3 m of another robot)\n",
+      result.placed_pairs, result.pairs, result.false_merges, result.max_translation,
+      result.max_rotation * 180.0 / M_PI, 100.0 * result.map_accuracy, result.submaps,
+      result.median_update_ms, result.max_update_ms, result.median_fold_ms, result.sim_seconds,
+      wall, static_cast<long long>(result.masked_returns),
+      static_cast<long long>(result.laser_bodies),
+      static_cast<long long>(result.laser_bodies_on_robots));
+  std::fflush(stdout);
+}
+
+void PrintSummary(const std::string& name, bool detections, const std::vector<RunResult>& runs) {
+  if (runs.size() < 2) return;
+  double map_sum = 0.0, map_min = 1.0, map_max = 0.0, worst_pair = 0.0;
+  int merged = 0, pairs = 0, false_merges = 0;
+  for (const RunResult& r : runs) {
+    map_sum += r.map_accuracy;
+    map_min = std::min(map_min, r.map_accuracy);
+    map_max = std::max(map_max, r.map_accuracy);
+    worst_pair = std::max(worst_pair, r.max_translation);
+    merged += r.placed_pairs;
+    pairs += r.pairs;
+    false_merges += r.false_merges;
+  }
+  std::printf("  SUMMARY %s (%s), %zu seeds: map %.2f %% mean (%.2f-%.2f), worst pair %.3f m, "
+              "merged pairs %d/%d, false merges %d\n",
+              name.c_str(), detections ? "with detections" : "no detections", runs.size(),
+              100.0 * map_sum / static_cast<double>(runs.size()), 100.0 * map_min, 100.0 * map_max,
+              worst_pair, merged, pairs, false_merges);
+  std::fflush(stdout);
+}
+
+}  // namespace fleetmap
