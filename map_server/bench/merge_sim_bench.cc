@@ -33,6 +33,7 @@ struct BenchOptions {
   double false_translation = 0.5;  // a placed pair further off than this is a false merge
   double false_rotation = 0.087;
   bool verbose = false;
+  bool diagnose = false;  // per-submap and per-edge errors against the truth
   MergeEngineOptions engine;
   bool mask_seen_robots = true;  // with detections: returns off seen robots kept out of local SLAM
   // Round bodies the laser alone finds masked too (the agent's detection.mask_laser_bodies).
@@ -84,6 +85,7 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
   std::vector<double> update_ms, fold_ms;
   double next_feed = options.feed_period;
   std::vector<RobotDetection> pending_detections;
+  std::map<NodeId, Submap> latest_submaps;  // as the engine has them, for ScoreMapBounds
   const auto feed = [&](bool last) {
     int new_submaps = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -96,6 +98,7 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
               submap.scan_poses.front().pose.inverse() * submap.submap_in_local,
               submap.scan_poses.front().timestamp};
         }
+        latest_submaps[NodeId{infos[i].name, submap.submap_id}] = submap;
         engine.AddOrUpdateSubmap(submap);
       }
       engine.SetTrajectory(infos[i].name, slams[i]->trajectory());
@@ -229,6 +232,8 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
   }
   ScoreMerge(engine, run_truth, sim->world(), options.false_translation, options.false_rotation,
              result, error);
+  ScoreMapBounds(latest_submaps, run_truth, sim->world(), result);
+  if (options.diagnose) PrintSubmapDiagnosis(engine, latest_submaps, run_truth);
   result->median_update_ms = Median(update_ms);
   result->max_update_ms =
       update_ms.empty() ? 0.0 : *std::max_element(update_ms.begin(), update_ms.end());
@@ -251,6 +256,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--no-detections", without_only, "only run without detections");
   app.add_flag("--verbose", options.verbose, "print every merge event");
+  app.add_flag("--diagnose", options.diagnose,
+               "print every submap's anchor error (local SLAM, merged) and every graph edge's "
+               "error against the truth");
   app.add_option("--feed-period", options.feed_period, "sim seconds between engine updates")
       ->capture_default_str();
   app.add_option("--detection-period", options.detection_period,

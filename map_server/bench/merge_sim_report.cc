@@ -26,6 +26,12 @@ void PrintRun(const RunResult& result, double wall) {
       wall, static_cast<long long>(result.masked_returns),
       static_cast<long long>(result.laser_bodies),
       static_cast<long long>(result.laser_bodies_on_robots));
+  std::printf(
+      "  map bounds: submaps at their true anchors %.2f %%; each robot's own map, "
+      "start placed true:",
+      100.0 * result.map_at_true_anchors);
+  for (double m : result.map_local_per_robot) std::printf(" %.2f %%", 100.0 * m);
+  std::printf("\n");
   std::fflush(stdout);
 }
 

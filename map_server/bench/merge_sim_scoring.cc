@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "map_server/merge/log_odds_canvas.h"
 #include "robot_agent/sim/map_accuracy.h"
 
 namespace fleetmap {
@@ -14,11 +15,94 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+std::optional<Rigid2d> TrueAnchor(const RunTruth& known, const NodeId& id) {
+  const auto anchor = known.anchors.find(id);
+  const auto robot = std::find(known.names.begin(), known.names.end(), id.robot);
+  if (anchor == known.anchors.end() || robot == known.names.end()) return std::nullopt;
+  const auto& truth = known.at_scan[static_cast<size_t>(robot - known.names.begin())];
+  const auto t = truth.find(anchor->second.second);
+  if (t == truth.end()) return std::nullopt;
+  return t->second * anchor->second.first;
+}
+
+namespace {
+
+std::string PoseError(const Rigid2d& estimate, const Rigid2d& truth) {
+  const Rigid2d diff = truth.inverse() * estimate;
+  char text[96];
+  std::snprintf(text, sizeof(text), "%.3f m (%6.3f %6.3f) %6.3f deg", diff.translation().norm(),
+                diff.translation().x(), diff.translation().y(),
+                NormalizeAngle(diff.rotation()) * 180.0 / M_PI);
+  return text;
+}
+
+}  // namespace
+
+void PrintSubmapDiagnosis(const MergeEngine& engine, const std::map<NodeId, Submap>& submaps,
+                          const RunTruth& known) {
+  const auto ref = std::find(known.names.begin(), known.names.end(), engine.reference_robot());
+  if (ref == known.names.end()) return;
+  const auto& global_in_world =
+      known.local_in_world[static_cast<size_t>(ref - known.names.begin())];
+  const std::map<NodeId, Rigid2d> poses = engine.SubmapPoses();
+  std::optional<std::pair<NodeId, Rigid2d>> previous;
+  for (const auto& [id, submap] : submaps) {
+    const auto truth = TrueAnchor(known, id);
+    const size_t i = static_cast<size_t>(
+        std::find(known.names.begin(), known.names.end(), id.robot) - known.names.begin());
+    if (!truth || i >= known.names.size() || !known.local_in_world[i]) continue;
+    std::string step = "-";
+    if (previous && previous->first.robot == id.robot) {
+      const Submap& before = submaps.at(previous->first);
+      step = PoseError(before.submap_in_local.inverse() * submap.submap_in_local,
+                       previous->second.inverse() * *truth);
+    }
+    const auto merged = poses.find(id);
+    std::printf("    %s/%lld: local %s, step %s, merged %s\n", id.robot.c_str(),
+                static_cast<long long>(id.submap),
+                PoseError(*known.local_in_world[i] * submap.submap_in_local, *truth).c_str(),
+                step.c_str(),
+                merged == poses.end() || !global_in_world
+                    ? "-"
+                    : PoseError(*global_in_world * merged->second, *truth).c_str());
+    previous = std::make_pair(id, *truth);
+  }
+  for (const RelativeEdge& e : engine.graph().edges()) {
+    const auto from = TrueAnchor(known, e.from), to = TrueAnchor(known, e.to);
+    if (!from || !to) continue;
+    std::printf("    edge %s %s/%lld -> %s/%lld: %s\n", EdgeKindName(e.kind), e.from.robot.c_str(),
+                static_cast<long long>(e.from.submap), e.to.robot.c_str(),
+                static_cast<long long>(e.to.submap),
+                PoseError(e.to_in_from, from->inverse() * *to).c_str());
+  }
+}
+
+void ScoreMapBounds(const std::map<NodeId, Submap>& submaps, const RunTruth& known,
+                    const sim::World& world, RunResult* result) {
+  const MergeEngineOptions defaults;
+  LogOddsCanvas at_truth(defaults.render_resolution);
+  std::vector<LogOddsCanvas> local(known.names.size(), LogOddsCanvas(defaults.render_resolution));
+  for (const auto& [id, submap] : submaps) {
+    const auto truth = TrueAnchor(known, id);
+    if (truth) at_truth.AddSubmap(submap.grid, *truth, 1.0f);
+    const auto robot = std::find(known.names.begin(), known.names.end(), id.robot);
+    const size_t i = static_cast<size_t>(robot - known.names.begin());
+    if (robot != known.names.end() && known.local_in_world[i]) {
+      local[i].AddSubmap(submap.grid, *known.local_in_world[i] * submap.submap_in_local, 1.0f);
+    }
+  }
+  const auto score = [&](const LogOddsCanvas& canvas) {
+    if (canvas.empty()) return 0.0;
+    return sim::ScoreAgainstWalls(canvas.ToGrid(defaults.render_grid), Rigid2d(), world).fraction();
+  };
+  result->map_at_true_anchors = score(at_truth);
+  result->map_local_per_robot.clear();
+  for (const LogOddsCanvas& canvas : local) result->map_local_per_robot.push_back(score(canvas));
+}
+
 void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::World& world,
                 double false_translation, double false_rotation, RunResult* result,
                 std::string* error) {
-  std::map<std::string, size_t> index;
-  for (size_t i = 0; i < known.names.size(); ++i) index[known.names[i]] = i;
   // Relative transforms between every pair of robots' start frames against the truth. A start
   // frame is placed where the merged graph put the robot's first submap: RobotToGlobal() frames
   // the robot by its latest submap, so it also carries the local SLAM drift since the start
@@ -65,12 +149,7 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::Wor
   std::vector<std::pair<NodeId, Rigid2d>>
       true_anchors;  // placed submaps' true anchors in the world
   for (const auto& [id, pose] : poses) {
-    const auto anchor = known.anchors.find(id);
-    if (anchor == known.anchors.end()) continue;
-    const auto& truth = known.at_scan[index.at(id.robot)];
-    const auto t = truth.find(anchor->second.second);
-    if (t == truth.end()) continue;
-    true_anchors.emplace_back(id, t->second * anchor->second.first);
+    if (const auto truth = TrueAnchor(known, id)) true_anchors.emplace_back(id, *truth);
   }
   std::vector<double> near_t, near_r;
   for (size_t i = 0; i < true_anchors.size(); ++i) {

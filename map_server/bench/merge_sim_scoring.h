@@ -11,6 +11,7 @@
 #include "map_server/merge/merge_engine.h"
 #include "robot_agent/sim/world.h"
 #include "shared/core/rigid2d.h"
+#include "shared/core/submap.h"
 
 namespace fleetmap {
 
@@ -34,6 +35,9 @@ struct RunResult {
   double max_translation = 0.0;
   double max_rotation = 0.0;
   double map_accuracy = 0.0;
+  // What the map figure could be with these submaps (see ScoreMapBounds).
+  double map_at_true_anchors = 0.0;
+  std::vector<double> map_local_per_robot;
   double median_update_ms = 0.0;
   double max_update_ms = 0.0;
   double median_fold_ms = 0.0;  // per submap folded in
@@ -55,6 +59,21 @@ struct RunTruth {
   // that scan's time; with the truth at that time this gives the anchor's true pose.
   std::map<NodeId, std::pair<Rigid2d, double>> anchors;
 };
+
+// The true anchor of a submap in the world, when the truth has its first scan's time.
+std::optional<Rigid2d> TrueAnchor(const RunTruth& known, const NodeId& id);
+
+// Prints, per submap, how far local SLAM and the merged graph put its anchor from the truth,
+// and per graph edge (but detections), how far its measurement is from the true relation.
+void PrintSubmapDiagnosis(const MergeEngine& engine, const std::map<NodeId, Submap>& submaps,
+                          const RunTruth& known);
+
+// Splits the map figure's losses between the merge and what it was given: the submaps rendered
+// at their true anchors (the best any merge of these submaps could do: what is left is in the
+// submaps themselves, e.g. other robots' bodies or blur within a submap), and each robot's
+// submaps at its own local SLAM anchors, its start frame placed true (its local drift).
+void ScoreMapBounds(const std::map<NodeId, Submap>& submaps, const RunTruth& known,
+                    const sim::World& world, RunResult* result);
 
 // Scores the engine's merge against the truth: relative transforms of every robot pair's start
 // frames (a pair further off than the thresholds is a false merge), the local consistency of
