@@ -91,9 +91,7 @@ double TotalCost(const Linearization& lin, const Rigid2d& pose, const Rigid2d& p
   return lin.cost + 0.5 * e.dot(prior_weights.cwiseProduct(e));
 }
 
-}  // namespace
-
-PoseRefinement RefinePose(const std::vector<Eigen::Vector2f>& points, const MatchGrid& grid,
+PoseRefinement RefineOnce(const std::vector<Eigen::Vector2f>& points, const MatchGrid& grid,
                           const Rigid2d& initial, const Rigid2d& prior,
                           const PoseRefinementOptions& options) {
   PoseRefinement result;
@@ -147,6 +145,23 @@ PoseRefinement RefinePose(const std::vector<Eigen::Vector2f>& points, const Matc
   // A tiny ridge keeps the inverse finite when neither scan nor prior constrains a direction.
   result.covariance = (h + 1e-9 * Eigen::Matrix3d::Identity()).inverse();
   return result;
+}
+
+}  // namespace
+
+PoseRefinement RefinePose(const std::vector<Eigen::Vector2f>& points, const MatchGrid& grid,
+                          const Rigid2d& initial, const Rigid2d& prior,
+                          const PoseRefinementOptions& options) {
+  PoseRefinement result = RefineOnce(points, grid, initial, prior, options);
+  if (!(options.fine_robust_scale > 0.0) || !(options.fine_robust_scale < options.robust_scale) ||
+      points.empty()) {
+    return result;
+  }
+  PoseRefinementOptions fine = options;
+  fine.robust_scale = options.fine_robust_scale;
+  PoseRefinement refined = RefineOnce(points, grid, result.pose, prior, fine);
+  refined.iterations += result.iterations;
+  return refined;
 }
 
 }  // namespace fleetmap

@@ -17,6 +17,11 @@ struct PoseRefinementOptions {
   double point_sigma = 0.05;
   // Cauchy loss scale (metres): points farther than this from the map count progressively less.
   double robust_scale = 0.15;
+  // Then refined again from that pose with this narrower scale (0: not). The wide scale gives the
+  // basin that odometry errors of several centimetres need; at the minimum it lets the few
+  // returns off surfaces the map has not seen yet (a box face coming into view, an occlusion
+  // edge) pull the pose with a sizeable share of their weight.
+  double fine_robust_scale = 0.0;
   // Prior on the pose (typically odometry): keeps directions the scan cannot observe, such as the
   // axis of a featureless corridor, where the prior puts them. A sigma <= 0 disables that term.
   double prior_translation_sigma = 0.3;  // metres, per axis
