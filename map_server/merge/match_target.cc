@@ -77,6 +77,18 @@ MatchResult MatchTarget::Evaluate(const MatchSource& source, const Rigid2d& pose
   return EvaluateWithScore(source, pose, gates, matcher_->ScoreAt(source.coarse, pose));
 }
 
+double MatchTarget::LatticeScore(const MatchSource& source, const Rigid2d& pose) const {
+  return matcher_->ScoreAt(source.coarse, pose);
+}
+
+std::optional<MatchCandidate> MatchTarget::BestOutside(const MatchSource& source,
+                                                       const SearchWindow& window,
+                                                       double min_score,
+                                                       const ExclusionZone& zone) const {
+  if (empty() || source.coarse.empty()) return std::nullopt;
+  return matcher_->Search(source.coarse, window, min_score, zone);
+}
+
 MatchResult MatchTarget::EvaluateWithScore(const MatchSource& source, const Rigid2d& pose,
                                            const MatchGates& gates, double score) const {
   MatchResult result;

@@ -2,6 +2,7 @@
 #define FLEETMAP_MAP_SERVER_MERGE_MATCH_TARGET_H_
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,13 @@ class MatchTarget {
 
   // Scores a given pose without searching (same figures as Match, no ambiguity).
   MatchResult Evaluate(const MatchSource& source, const Rigid2d& pose, const MatchGates& gates) const;
+
+  // The lattice score of a pose, and the best lattice pose in `window` outside `zone` scoring at
+  // least `min_score` (none when no pose does): to ask whether anything else explains the source
+  // nearly as well as a given alignment.
+  double LatticeScore(const MatchSource& source, const Rigid2d& pose) const;
+  std::optional<MatchCandidate> BestOutside(const MatchSource& source, const SearchWindow& window,
+                                            double min_score, const ExclusionZone& zone) const;
 
  private:
   MatchResult EvaluateWithScore(const MatchSource& source, const Rigid2d& pose,

@@ -76,6 +76,18 @@ struct MergeEngineOptions {
   double withdraw_majority = 1.5;
   double detection_sigma_floor = 0.1;
 
+  // A join on matches alone (no detection among its evidence) is accepted only when nothing else
+  // explains the two parts' whole maps nearly as well: no distinct alignment of one whole map
+  // on the other (searched over every heading at whole_map_resolution) scores at least
+  // whole_map_ambiguity of the join's score, or lands at least whole_map_min_overlap times as
+  // many points as the join on what the other map observed and scores there at least
+  // whole_map_ambiguity of the join's score per overlapping point. The department is 98 %
+  // symmetric under a half turn, and two submaps that agree on the map turned round were seen
+  // joining robots 52 m off. 0 turns it off.
+  double whole_map_ambiguity = 0.85;
+  double whole_map_min_overlap = 0.5;
+  double whole_map_resolution = 0.2;
+
   // Work bounds per Update(): global searches are the expensive part.
   int max_global_searches_per_update = 4;
   int max_local_searches_per_update = 8;
@@ -204,6 +216,14 @@ class MergeEngine {
   // merge_engine_motion.cc
   std::optional<SeenPositions> PositionsAt(const RobotDetection& detection) const;
   std::optional<HeadingPrior> HeadingFromMotion(size_t detection_index) const;
+  // merge_engine_ambiguity.cc
+  // Why a match-only join of the parts rooted at root_a and root_b at `b_in_a` is not
+  // unambiguous over their whole maps; empty when it is.
+  // The answer is kept while neither part's map changes, for alignments that agree with it.
+  std::optional<std::string> WholeMapAmbiguity(const std::string& root_a, const std::string& root_b,
+                                               const Rigid2d& b_in_a);
+  std::optional<std::string> SearchWholeMaps(const std::string& root_a, const std::string& root_b,
+                                             const Rigid2d& b_in_a) const;
   // merge_engine_loops.cc
   void ProcessLoopClosures(MergeUpdate* update);
   void Consider(Hypothesis hypothesis, MergeUpdate* update);
@@ -211,6 +231,8 @@ class MergeEngine {
   void Accept(const Hypothesis& hypothesis, const std::vector<RelativeEdge>& extra,
               MergeUpdate* update);
   std::optional<TimedPose> PoseAtTime(const std::string& robot, double time) const;
+  // Members and canvas versions of a component: changes whenever its map does.
+  std::string CanvasStamp(const std::string& root) const;
   // The whole map of a component (cached), or a freshly built crop of it around `box`.
   const MatchTarget& Target(const std::string& root);
   std::unique_ptr<MatchTarget> CroppedTarget(const std::string& root, const std::string& excluded,
@@ -248,6 +270,12 @@ class MergeEngine {
   int64_t joins_ = 0;
   bool review_joins_ = false;  // a detection contradicted its robots' joined map
   std::map<std::string, CachedTarget> targets_;
+  struct CachedAmbiguity {
+    std::string stamp;
+    Rigid2d b_in_a;
+    std::optional<std::string> answer;
+  };
+  std::map<std::pair<std::string, std::string>, CachedAmbiguity> ambiguities_;
 };
 
 }  // namespace fleetmap

@@ -106,15 +106,20 @@ const MatchSource& MergeEngine::SubmapSource(const std::string& robot, int64_t s
   return it->second.second;
 }
 
-const MatchTarget& MergeEngine::Target(const std::string& root) {
+std::string MergeEngine::CanvasStamp(const std::string& root) const {
   std::ostringstream stamp;
   for (const std::string& m : Members(root)) stamp << m << ':' << robots_.at(m)->canvas_version << ';';
+  return stamp.str();
+}
+
+const MatchTarget& MergeEngine::Target(const std::string& root) {
+  const std::string stamp = CanvasStamp(root);
   CachedTarget& cached = targets_[root];
-  if (!cached.target || cached.stamp != stamp.str()) {
+  if (!cached.target || cached.stamp != stamp) {
     LogOddsCanvas sum(options_.render_resolution);
     for (const std::string& m : Members(root)) sum.AddCanvas(robots_.at(m)->canvas);
     cached.target = std::make_unique<MatchTarget>(sum.ToGrid(options_.render_grid), options_.match);
-    cached.stamp = stamp.str();
+    cached.stamp = stamp;
   }
   return *cached.target;
 }

@@ -65,6 +65,17 @@ void MergeEngine::Consider(Hypothesis h, MergeUpdate* update) {
   }
   for (auto it = hypotheses_.begin(); it != hypotheses_.end(); ++it) {
     if (!Agree(h, *it)) continue;
+    if (!h.detection && !it->detection) {
+      const auto ambiguity = WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
+      if (ambiguity) {
+        h.event.type = AlignmentEventType::kHypothesis;
+        h.event.reason += "; agrees with another submap match but " + *ambiguity +
+                          ": kept as a hypothesis";
+        update->events.push_back(h.event);
+        hypotheses_.push_back(std::move(h));
+        return;
+      }
+    }
     const Hypothesis other = *it;
     hypotheses_.erase(it);
     h.event.reason += "; confirmed by an independent " +

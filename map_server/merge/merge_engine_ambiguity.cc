@@ -1,0 +1,94 @@
+// MergeEngine: is a join on matches alone unambiguous over the two parts' whole maps?
+//
+// Two submaps that agree are not enough in a building that looks the same turned round: each
+// matches the other part's map where that map has been driven so far, and both agree on the
+// turned alignment. Over the whole maps the turned alignment has to explain everything both
+// parts have seen, and where a part has seen both halves, the true and the turned alignments
+// score alike: the join then waits (for a detection, or for maps that tell them apart).
+
+#include <sstream>
+
+#include "map_server/merge/grid_points.h"
+#include "map_server/merge/internal/merge_engine_state.h"
+#include "map_server/merge/merge_engine.h"
+
+namespace fleetmap {
+
+std::optional<std::string> MergeEngine::WholeMapAmbiguity(const std::string& root_a,
+                                                          const std::string& root_b,
+                                                          const Rigid2d& b_in_a) {
+  if (!(options_.whole_map_ambiguity > 0.0)) return std::nullopt;
+  // Many submap matches agree on one alignment; the search is what costs.
+  const std::string stamp = CanvasStamp(root_a) + '|' + CanvasStamp(root_b);
+  CachedAmbiguity& cached = ambiguities_[{root_a, root_b}];
+  const Rigid2d moved = cached.b_in_a.inverse() * b_in_a;
+  if (cached.stamp == stamp && moved.translation().norm() <= options_.agreement_translation &&
+      std::abs(NormalizeAngle(moved.rotation())) <= options_.agreement_rotation) {
+    return cached.answer;
+  }
+  cached = {stamp, b_in_a, SearchWholeMaps(root_a, root_b, b_in_a)};
+  return cached.answer;
+}
+
+std::optional<std::string> MergeEngine::SearchWholeMaps(const std::string& root_a,
+                                                        const std::string& root_b,
+                                                        const Rigid2d& b_in_a) const {
+  const double resolution = options_.whole_map_resolution;
+  const auto render = [&](const std::string& root) {
+    LogOddsCanvas canvas(resolution);
+    for (const std::string& m : Members(root)) {
+      for (const auto& [id, submap] : robots_.at(m)->submaps) {
+        if (const auto pose = graph_.NodePose({m, id})) canvas.AddSubmap(submap.grid, *pose, 1.0f);
+      }
+    }
+    OccupancyGridOptions grid_options = options_.render_grid;
+    grid_options.resolution = resolution;
+    return canvas.ToGrid(grid_options);
+  };
+  MatchTargetOptions match_options = options_.match;
+  match_options.grid.resolution = resolution;
+  match_options.grid.sigma = 0.0;  // the resolution
+  const MatchTarget target(render(root_a), match_options);
+  MatchSource source = MakeMatchSource(render(root_b), Rigid2d(), match_options);
+  if (target.empty() || source.coarse.empty()) return std::nullopt;
+  // Turn about the source's centroid, so that the window only has to cover the target.
+  const Eigen::Vector2d c = Centroid(source.coarse);
+  for (auto& p : source.coarse) p -= c;
+  for (auto& p : source.fine) p -= c;
+  const Rigid2d candidate = b_in_a * Rigid2d(c, 0.0);
+  const MatchResult at_candidate = target.Evaluate(source, candidate, options_.cross_gates);
+  std::ostringstream why;
+  why.precision(3);
+  if (!(at_candidate.score > 0.0)) {
+    why << "the whole maps contradict it (score " << at_candidate.score << ")";
+    return why.str();
+  }
+  // Another alignment is as good an explanation when it scores nearly as well over all points,
+  // or when it is as consistent where the maps overlap (score per overlapping point) over a
+  // sizeable share of the join's overlap; either way it scores at least
+  // min_overlap * whole_map_ambiguity of the join's score over all points.
+  const double ratio = options_.whole_map_ambiguity, min_overlap = options_.whole_map_min_overlap;
+  SearchWindow window;
+  window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
+  window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());
+  window.angular_half_extent = M_PI;
+  ExclusionZone zone = options_.cross_gates.distinct;
+  zone.center = candidate;
+  const auto other = target.BestOutside(source, window, min_overlap * ratio * at_candidate.score, zone);
+  if (!other) return std::nullopt;
+  const MatchResult at_other = target.Evaluate(source, other->pose, options_.cross_gates);
+  const bool explains_as_much = at_other.score >= ratio * at_candidate.score;
+  const bool as_consistent = at_other.overlap >= min_overlap * at_candidate.overlap &&
+                             at_other.overlap_score >= ratio * at_candidate.overlap_score;
+  if (!explains_as_much && !as_consistent) return std::nullopt;
+  const Rigid2d apart = b_in_a.inverse() * (other->pose * Rigid2d(-c, 0.0));
+  why << "ambiguous over the whole maps: an alignment " << apart.translation().norm() << " m, "
+      << std::abs(NormalizeAngle(apart.rotation())) * 180.0 / M_PI
+      << " deg away fits as well (score " << at_other.score << " against " << at_candidate.score
+      << "; where the maps overlap " << at_other.overlap_score << " over " << at_other.overlap
+      << " of the points, against " << at_candidate.overlap_score << " over "
+      << at_candidate.overlap << ")";
+  return why.str();
+}
+
+}  // namespace fleetmap

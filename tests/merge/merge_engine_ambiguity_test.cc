@@ -1,0 +1,114 @@
+// A join on matches alone must not be accepted while the two whole maps fit as well turned round
+// (MergeEngineOptions::whole_map_ambiguity).
+
+#include <gtest/gtest.h>
+
+#include "map_server/merge/merge_engine.h"
+#include "tests/merge/merge_engine_fixtures.h"
+
+namespace fleetmap {
+namespace {
+
+using merge_fixtures::Count;
+using merge_fixtures::EstimatedRelative;
+using merge_fixtures::Feed;
+using merge_fixtures::SimRobot;
+using merge_fixtures::TrueRelative;
+
+// The office and beside it the office turned half round about (20, 6): every wall of one is a
+// wall of the other turned round, as in the simulator's department. A door in the wall they
+// share (x = 20, y = 5-7) joins them.
+Rigid2d HalfTurn() { return Rigid2d(40.0, 12.0, M_PI); }
+
+testing::SegmentWorld TwinOffices() {
+  testing::SegmentWorld office;
+  for (const testing::Segment& s : testing::OfficeWorld()) {
+    const bool shared_wall = s.a.x() == 20.0 && s.b.x() == 20.0;
+    if (!shared_wall) office.push_back(s);
+  }
+  office.push_back({Eigen::Vector2d(20, 0), Eigen::Vector2d(20, 5)});
+  testing::SegmentWorld world = office;
+  for (const testing::Segment& s : office) world.push_back({HalfTurn() * s.a, HalfTurn() * s.b});
+  return world;
+}
+
+std::vector<Rigid2d> Turned(const std::vector<Rigid2d>& path) {
+  std::vector<Rigid2d> out;
+  for (const Rigid2d& p : path) out.push_back(HalfTurn() * p);
+  return out;
+}
+
+// Robot a drives the turned office's three rooms, then the office's right and middle rooms
+// (never its left room). Robot b starts in the office's left room and drives on into the middle
+// and right rooms, where it stays. b's first submaps show a room a saw only turned round: each
+// matches there unambiguously, and two of them agree on the turned alignment. Over b's whole
+// map the true alignment fits nearly as well (a saw the rooms b spends most of its time in both
+// ways round), so the join must wait.
+std::pair<SimRobot, SimRobot> TwinOfficeRobots() {
+  const std::vector<Rigid2d> tour = testing::PathThrough(
+      {{2, 6}, {5.5, 5.5}, {8, 6}, {11, 5}, {14, 5}, {18.5, 5}, {18.5, 9}, {14, 9}, {18.5, 9},
+       {18.5, 5}, {11, 6}},
+      0.25);
+  std::vector<Rigid2d> a_path = Turned(tour);
+  for (const Rigid2d& p : testing::PathThrough(
+           {{21.5, 6}, {18.5, 6}, {18.5, 9}, {14.5, 9}, {18.5, 9}, {18.5, 5}, {14, 5}, {11, 6}}, 0.25)) {
+    a_path.push_back(p);
+  }
+  SimRobot a{"a", a_path, Rigid2d(a_path.front().translation(), 0.4)};
+  const std::vector<Rigid2d> b_path = testing::PathThrough(
+      {{1.5, 5.5}, {5.5, 5.5}, {8, 6}, {11.5, 5}, {14, 5}, {18.5, 5}, {18.5, 9}, {14.5, 9},
+       {18.5, 9}, {18.5, 5}, {14, 5}, {11.5, 6.5}, {8.5, 4}},
+      0.25);
+  SimRobot b{"b", b_path, Rigid2d(b_path.front().translation(), -1.1)};
+  return {a, b};
+}
+
+std::unique_ptr<MergeEngine> FedEngine(double whole_map_ambiguity, SimRobot* a, SimRobot* b) {
+  MergeEngineOptions options;
+  options.max_global_searches_per_update = 100;
+  options.whole_map_ambiguity = whole_map_ambiguity;
+  auto engine = std::make_unique<MergeEngine>(options);
+  const testing::SegmentWorld world = TwinOffices();
+  std::tie(*a, *b) = TwinOfficeRobots();
+  Feed(world, *a, engine.get());
+  Feed(world, *b, engine.get());
+  return engine;
+}
+
+TEST(MergeEngineAmbiguityTest, WithoutTheWholeMapCheckTwoSubmapsJoinTheTwinTurnedRound) {
+  SimRobot a, b;
+  auto engine = FedEngine(0.0, &a, &b);
+  engine->Update();
+  const auto rel = EstimatedRelative(*engine, "a", "b");
+  ASSERT_TRUE(rel) << "the case the next test is about: a join on the turned twin";
+  const Rigid2d error = TrueRelative(a, b).inverse() * *rel;
+  EXPECT_GT(error.translation().norm(), 5.0);
+}
+
+TEST(MergeEngineAmbiguityTest, AJoinWaitsWhileTheWholeMapsFitTurnedRound) {
+  SimRobot a, b;
+  auto engine = FedEngine(MergeEngineOptions().whole_map_ambiguity, &a, &b);
+  // One update searches every submap (the budget is large).
+  const MergeUpdate update = engine->Update();
+  int kept = 0;
+  for (const AlignmentEvent& e : update.events) {
+    kept += e.type == AlignmentEventType::kHypothesis &&
+            e.reason.find("ambiguous over the whole maps") != std::string::npos;
+  }
+  EXPECT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 0);
+  EXPECT_GE(kept, 1);
+  EXPECT_FALSE(engine->RobotToGlobal("b"));
+}
+
+// The check does not stop a join where nothing else fits: the office alone.
+TEST(MergeEngineAmbiguityTest, AnUnambiguousJoinIsStillAccepted) {
+  const SimRobot a = merge_fixtures::RobotA(), b = merge_fixtures::RobotB(-2.4);
+  auto engine = merge_fixtures::OverlappingRobotsWithSearches(a, b);
+  engine->Update();
+  const auto rel = EstimatedRelative(*engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_LT((TrueRelative(a, b).inverse() * *rel).translation().norm(), 0.05);
+}
+
+}  // namespace
+}  // namespace fleetmap
