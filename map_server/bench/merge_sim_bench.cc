@@ -250,11 +250,14 @@ int main(int argc, char** argv) {
   fleetmap::BenchOptions options;
   bool both = true;
   bool without_only = false;
+  bool with_only = false;
   int seeds = 1;
   CLI::App app{"merge benchmark: simulator scenarios -> local SLAM -> MergeEngine (in process)"};
   app.add_option("scenarios", scenarios, "scenario files or shipped scenario names")
       ->capture_default_str();
   app.add_flag("--no-detections", without_only, "only run without detections");
+  app.add_flag("--detections-only", with_only, "only run with detections")
+      ->excludes("--no-detections");
   app.add_flag("--verbose", options.verbose, "print every merge event");
   app.add_flag("--diagnose", options.diagnose,
                "print every submap's anchor error (local SLAM, merged) and every graph edge's "
@@ -299,7 +302,7 @@ int main(int argc, char** argv) {
     if (path.find('/') == std::string::npos) {
       path = fleetmap::sim::ShippedScenariosDir() + "/" + name + ".yaml";
     }
-    for (int with = both ? 1 : 0; with >= 0; --with) {
+    for (int with = both ? 1 : 0; with >= (with_only ? 1 : 0); --with) {
       options.detections = with == 1;
       std::vector<fleetmap::RunResult> runs;
       for (int k = 0; k < seeds; ++k) {
