@@ -55,13 +55,16 @@ int LoopClosure::SubmapIndex(int64_t submap_id, const Rigid2d& submap_in_local) 
   const auto found = submap_index_.find(submap_id);
   if (found != submap_index_.end()) return found->second;
   // A new submap: the previous one is finished, so it becomes a loop-closure target.
-  if (!submaps_.empty() && !submaps_.back().pyramid && !submaps_.back().grid->empty()) {
-    submaps_.back().pyramid =
-        std::make_unique<MatchGridPyramid>(*submaps_.back().grid, options_.pyramid_levels);
+  if (!submaps_.empty() && !submaps_.back().finished && !submaps_.back().grid->empty()) {
+    submaps_.back().finished = true;
+    Target(submaps_.size() - 1);
   }
   const Rigid2d correction = nodes_.empty() ? Rigid2d() : NodeCorrection(nodes_.size() - 1);
-  SubmapEntry entry{submap_id, submap_in_local, correction * submap_in_local,
-                    std::make_unique<MatchGrid>(options_.grid), nullptr};
+  SubmapEntry entry;
+  entry.id = submap_id;
+  entry.local = submap_in_local;
+  entry.global = correction * submap_in_local;
+  entry.grid = std::make_unique<MatchGrid>(options_.grid);
   submaps_.push_back(std::move(entry));
   const int index = static_cast<int>(submaps_.size()) - 1;
   submap_index_[submap_id] = index;
@@ -85,6 +88,7 @@ bool LoopClosure::AddNode(double timestamp, const std::vector<Eigen::Vector2f>& 
   const std::vector<Eigen::Vector2f> points = RangeFilter(points_in_robot, options_.max_range);
   const Rigid2d robot_in_submap = entry.local.inverse() * robot_in_local;
   entry.grid->AddPoints(points, robot_in_submap);
+  entry.scans.push_back({points, robot_in_submap});
   entry.centre_sum += robot_in_submap.translation();
   ++entry.node_count;
   entry.linked_travel = travel;
@@ -106,6 +110,31 @@ bool LoopClosure::Finish() {
   return Optimize();
 }
 
+const LoopClosure::SubmapEntry& LoopClosure::Target(size_t index) {
+  SubmapEntry& entry = submaps_[index];
+  entry.last_used = static_cast<uint64_t>(searches_) + 1;
+  if (entry.pyramid) return entry;
+  if (!entry.grid) {
+    entry.grid = std::make_unique<MatchGrid>(options_.grid);
+    for (const InsertedScan& scan : entry.scans) entry.grid->AddPoints(scan.points, scan.robot_in_submap);
+    ++target_rebuilds_;
+  }
+  entry.pyramid = std::make_unique<MatchGridPyramid>(*entry.grid, options_.pyramid_levels);
+  ++cached_targets_;
+  while (options_.max_cached_targets > 0 && cached_targets_ > options_.max_cached_targets) {
+    SubmapEntry* oldest = nullptr;
+    for (SubmapEntry& other : submaps_) {
+      if (&other == &entry || !other.pyramid) continue;
+      if (!oldest || other.last_used < oldest->last_used) oldest = &other;
+    }
+    if (!oldest) break;
+    oldest->grid.reset();
+    oldest->pyramid.reset();
+    --cached_targets_;
+  }
+  return entry;
+}
+
 void LoopClosure::SearchLoops(int node, const std::vector<Eigen::Vector2f>& points) {
   if (points.empty()) return;
   if (options_.min_observed_normals > 0.0) {
@@ -118,7 +147,7 @@ void LoopClosure::SearchLoops(int node, const std::vector<Eigen::Vector2f>& poin
   std::vector<std::pair<double, size_t>> nearby;  // (distance, submap index)
   for (size_t s = 0; s < submaps_.size(); ++s) {
     const SubmapEntry& target = submaps_[s];
-    if (!target.pyramid || target.id > own_id - options_.min_submap_gap) continue;
+    if (!target.finished || target.id > own_id - options_.min_submap_gap) continue;
     const Eigen::Vector2d centre =
         target.global * Eigen::Vector2d(target.centre_sum / std::max(1, target.node_count));
     const double distance = (centre - n.global.translation()).norm();
@@ -130,7 +159,7 @@ void LoopClosure::SearchLoops(int node, const std::vector<Eigen::Vector2f>& poin
     nearby.resize(static_cast<size_t>(options_.max_submaps_per_search));
   }
   for (const auto& [distance, s] : nearby) {
-    const SubmapEntry& target = submaps_[s];
+    const SubmapEntry& target = Target(s);
     if (search_points.empty()) search_points = VoxelFilter(points, options_.search_voxel_size);
     ++searches_;
     const Rigid2d guess = target.global.inverse() * n.global;

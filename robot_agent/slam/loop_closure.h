@@ -33,6 +33,11 @@ struct LoopClosureOptions {
   // Nodes whose scan faces one direction only (a plain corridor: less than this share of surface
   // normals across it, see NormalScatter) are not searched: their matches slide along the axis.
   double min_observed_normals = 0.03;
+  // Finished submaps whose distance grid and pyramid stay in memory (about 5 MB each at 5 cm
+  // with 15 m returns); the others keep only their scans and are rebuilt when a search needs
+  // them again. Without a bound the targets alone took 250 MB on the intel lab (71 submaps);
+  // searches only reach the few submaps near the robot, so a handful covers them. 0 keeps all.
+  int max_cached_targets = 6;
   // Every n-th node is searched against the finished submaps near it.
   int search_every_nodes = 4;
   // Submaps this recent (by id, relative to the node's own) are left to the local constraints.
@@ -122,6 +127,9 @@ class LoopClosure {
   int64_t loop_constraints() const { return static_cast<int64_t>(loops_.size()); }
   int64_t optimizations() const { return optimizations_; }
   int64_t dropped_loops() const { return dropped_; }
+  // Finished submaps whose search targets are in memory now, and how often one was rebuilt.
+  int cached_targets() const { return cached_targets_; }
+  int64_t target_rebuilds() const { return target_rebuilds_; }
 
  private:
   struct Node {
@@ -131,12 +139,20 @@ class LoopClosure {
     int submap;  // index into submaps_
     double travel;  // metres along the local trajectory since the first node
   };
+  // A scan as it went into a submap's grid: replaying these rebuilds the grid exactly.
+  struct InsertedScan {
+    std::vector<Eigen::Vector2f> points;  // robot frame
+    Rigid2d robot_in_submap;
+  };
   struct SubmapEntry {
-    int64_t id;
+    int64_t id = 0;
     Rigid2d local;
     Rigid2d global;
-    std::unique_ptr<MatchGrid> grid;
-    std::unique_ptr<MatchGridPyramid> pyramid;  // set when finished
+    std::unique_ptr<MatchGrid> grid;  // null while a finished submap is out of the cache
+    std::unique_ptr<MatchGridPyramid> pyramid;  // set when finished and cached
+    std::vector<InsertedScan> scans;
+    bool finished = false;  // a loop-closure target: ended with at least one point
+    uint64_t last_used = 0;  // search count when last searched, for the cache
     Eigen::Vector2d centre_sum = Eigen::Vector2d::Zero();  // of node positions, submap frame
     int node_count = 0;
     double linked_travel = 0.0;  // node travel when the submap was last built on or loop-closed
@@ -149,6 +165,9 @@ class LoopClosure {
   };
 
   int SubmapIndex(int64_t submap_id, const Rigid2d& submap_in_local);
+  // The finished submap `index` with its grid and pyramid in memory (rebuilt from its scans if
+  // they were dropped); drops the least recently used others beyond max_cached_targets.
+  const SubmapEntry& Target(size_t index);
   void SearchLoops(int node, const std::vector<Eigen::Vector2f>& points_in_robot);
   // Moves candidates that enough others agree with into loops_, and forgets old ones.
   void ConfirmCandidates();
@@ -171,6 +190,8 @@ class LoopClosure {
   int64_t optimizations_ = 0;
   int64_t dropped_ = 0;
   int64_t candidate_count_ = 0;
+  int cached_targets_ = 0;
+  int64_t target_rebuilds_ = 0;
 };
 
 }  // namespace fleetmap

@@ -54,16 +54,22 @@ std::vector<Eigen::Vector2f> PointsAt(const testing::SegmentWorld& world, const 
                                                     static_cast<float>(M_PI / 180), 10.0f));
 }
 
-TEST(LoopClosureTest, RemovesDriftOnASyntheticLoop) {
-  const testing::SegmentWorld world = IrregularRing();
-  const std::vector<Rigid2d> truth = RingPoses(1.5);
-  // A drifting local frontend: 2 % too long and 0.1 degree per metre to the left.
+// What a drifting local frontend reports along `truth`: 2 % too long and 0.1 degree per metre
+// to the left.
+std::vector<Rigid2d> DriftingFrontend(const std::vector<Rigid2d>& truth) {
   std::vector<Rigid2d> local = {truth.front()};
   for (size_t i = 1; i < truth.size(); ++i) {
     const Rigid2d step = truth[i - 1].inverse() * truth[i];
     const double d = step.translation().norm();
     local.push_back(local.back() * Rigid2d(1.02 * step.translation(), step.rotation() + 0.1 * kDegree * d));
   }
+  return local;
+}
+
+TEST(LoopClosureTest, RemovesDriftOnASyntheticLoop) {
+  const testing::SegmentWorld world = IrregularRing();
+  const std::vector<Rigid2d> truth = RingPoses(1.5);
+  const std::vector<Rigid2d> local = DriftingFrontend(truth);
   LoopClosure loop_closure;
   int64_t submap_id = -1;
   Rigid2d submap_in_local;
@@ -97,6 +103,45 @@ TEST(LoopClosureTest, RemovesDriftOnASyntheticLoop) {
   EXPECT_LT(worst_rotation, 1.0 * kDegree);
   // Interpolated corrections between nodes stay between their neighbours'.
   EXPECT_TRUE(loop_closure.CorrectionAt(10.5).IsFinite());
+}
+
+// Only a few finished submaps keep their search targets in memory; the others are rebuilt from
+// their scans when a search comes back to them, and must find exactly what the kept ones find.
+TEST(LoopClosureTest, RebuildsDroppedTargetsExactly) {
+  const testing::SegmentWorld world = IrregularRing();
+  const std::vector<Rigid2d> truth = RingPoses(1.5);
+  const std::vector<Rigid2d> local = DriftingFrontend(truth);
+  auto run = [&](int max_cached_targets) {
+    LoopClosureOptions options;
+    options.max_cached_targets = max_cached_targets;
+    auto loop_closure = std::make_unique<LoopClosure>(options);
+    int64_t submap_id = -1;
+    Rigid2d submap_in_local;
+    int most_cached = 0;
+    for (size_t i = 0; i < truth.size(); ++i) {
+      if (i % 40 == 0) {
+        ++submap_id;
+        submap_in_local = Rigid2d(local[i].translation(), 0.0);
+      }
+      loop_closure->AddNode(static_cast<double>(i), PointsAt(world, truth[i]), local[i], submap_id, submap_in_local);
+      most_cached = std::max(most_cached, loop_closure->cached_targets());
+    }
+    loop_closure->Finish();
+    return std::make_pair(std::move(loop_closure), most_cached);
+  };
+  const auto [all, all_cached] = run(0);
+  const auto [one, one_cached] = run(1);
+  EXPECT_GT(all_cached, 5);
+  EXPECT_EQ(all->target_rebuilds(), 0);
+  EXPECT_EQ(one_cached, 1);
+  EXPECT_GT(one->target_rebuilds(), 0);
+  ASSERT_GT(all->loop_constraints(), 0);
+  EXPECT_EQ(one->loop_constraints(), all->loop_constraints());
+  EXPECT_EQ(one->searches(), all->searches());
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const double t = static_cast<double>(i);
+    EXPECT_THAT(one->CorrectionAt(t), testing::IsNearPose(all->CorrectionAt(t), 1e-12, 1e-12)) << "node " << i;
+  }
 }
 
 TEST(LoopClosureTest, PublishesRevisionsWhenTheGraphMovesPoses) {
