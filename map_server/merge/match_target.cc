@@ -77,10 +77,6 @@ MatchResult MatchTarget::Evaluate(const MatchSource& source, const Rigid2d& pose
   return EvaluateWithScore(source, pose, gates, matcher_->ScoreAt(source.coarse, pose));
 }
 
-double MatchTarget::LatticeScore(const MatchSource& source, const Rigid2d& pose) const {
-  return matcher_->ScoreAt(source.coarse, pose);
-}
-
 std::optional<MatchCandidate> MatchTarget::BestOutside(const MatchSource& source,
                                                        const SearchWindow& window,
                                                        double min_score,

@@ -88,10 +88,9 @@ class MatchTarget {
   // Scores a given pose without searching (same figures as Match, no ambiguity).
   MatchResult Evaluate(const MatchSource& source, const Rigid2d& pose, const MatchGates& gates) const;
 
-  // The lattice score of a pose, and the best lattice pose in `window` outside `zone` scoring at
-  // least `min_score` (none when no pose does): to ask whether anything else explains the source
-  // nearly as well as a given alignment.
-  double LatticeScore(const MatchSource& source, const Rigid2d& pose) const;
+  // The best lattice pose in `window` outside `zone` scoring at least `min_score` (none when no
+  // pose does): to ask whether anything else explains the source nearly as well as a given
+  // alignment.
   std::optional<MatchCandidate> BestOutside(const MatchSource& source, const SearchWindow& window,
                                             double min_score, const ExclusionZone& zone) const;
 
