@@ -15,6 +15,22 @@ namespace fleetmap {
 std::vector<Eigen::Vector2d> OccupiedPoints(const OccupancyGrid& grid, float occupied_log_odds,
                                             const Rigid2d& grid_to_frame = Rigid2d());
 
+// The side a wall cell of `grid` was seen from: the unit vector (grid frame) towards the
+// seen-free cells (log-odds below `free_log_odds`) within two cells of it; zero where the free
+// cells lie on both sides (a thin wall seen from both) or there are none. Two maps of one wall
+// of some thickness seen from opposite sides hold its two faces; only faces seen from the same
+// side are the same surface.
+Eigen::Vector2d WallNormalAt(const OccupancyGrid& grid, const CellIndex& cell, float free_log_odds);
+
+// WallNormalAt() of every OccupiedPoints() point (same order), turned into `grid_to_frame`.
+std::vector<Eigen::Vector2d> WallNormals(const OccupancyGrid& grid, float occupied_log_odds,
+                                         float free_log_odds,
+                                         const Rigid2d& grid_to_frame = Rigid2d());
+
+// The indices VoxelFilter() keeps.
+std::vector<size_t> VoxelFilterIndices(const std::vector<Eigen::Vector2d>& points,
+                                       double cell_size, size_t max_points);
+
 // Keeps one point per `cell_size` square (the first one seen), then at most `max_points`
 // evenly spread over the remainder: bounded work per match whatever the submap size.
 std::vector<Eigen::Vector2d> VoxelFilter(const std::vector<Eigen::Vector2d>& points,

@@ -7,23 +7,64 @@
 
 namespace fleetmap {
 
+namespace {
+
+void Keep(const std::vector<size_t>& indices, std::vector<Eigen::Vector2d>* values) {
+  std::vector<Eigen::Vector2d> kept;
+  kept.reserve(indices.size());
+  for (size_t i : indices) kept.push_back((*values)[i]);
+  *values = std::move(kept);
+}
+
+}  // namespace
+
 MatchSource MakeMatchSource(const OccupancyGrid& grid, const Rigid2d& grid_to_source,
                             const MatchTargetOptions& options) {
-  const std::vector<Eigen::Vector2d> all =
-      OccupiedPoints(grid, options.grid.occupied_log_odds, grid_to_source);
   MatchSource source;
-  source.coarse = VoxelFilter(all, options.source_voxel, options.max_source_points);
-  source.fine = VoxelFilter(all, grid.resolution() * 0.99, options.max_fine_points);
+  source.fine = OccupiedPoints(grid, options.grid.occupied_log_odds, grid_to_source);
+  source.fine_normals =
+      WallNormals(grid, options.grid.occupied_log_odds, options.grid.free_log_odds, grid_to_source);
+  source.coarse = source.fine;
+  source.coarse_normals = source.fine_normals;
+  ThinSource(grid.resolution() * 0.99, options, &source);
   return source;
 }
 
+void TransformSource(const Rigid2d& t, MatchSource* source) {
+  const Eigen::Matrix2d r = t.rotation_matrix();
+  for (Eigen::Vector2d& p : source->coarse) p = t * p;
+  for (Eigen::Vector2d& p : source->fine) p = t * p;
+  for (Eigen::Vector2d& n : source->coarse_normals) n = r * n;
+  for (Eigen::Vector2d& n : source->fine_normals) n = r * n;
+}
+
+void AppendSource(const MatchSource& part, MatchSource* source) {
+  const auto append = [](const std::vector<Eigen::Vector2d>& from, std::vector<Eigen::Vector2d>* to) {
+    to->insert(to->end(), from.begin(), from.end());
+  };
+  append(part.coarse, &source->coarse);
+  append(part.fine, &source->fine);
+  append(part.coarse_normals, &source->coarse_normals);
+  append(part.fine_normals, &source->fine_normals);
+}
+
+void ThinSource(double fine_voxel, const MatchTargetOptions& options, MatchSource* source) {
+  const std::vector<size_t> coarse =
+      VoxelFilterIndices(source->coarse, options.source_voxel, options.max_source_points);
+  Keep(coarse, &source->coarse);
+  Keep(coarse, &source->coarse_normals);
+  const std::vector<size_t> fine = VoxelFilterIndices(source->fine, fine_voxel, options.max_fine_points);
+  Keep(fine, &source->fine);
+  Keep(fine, &source->fine_normals);
+}
+
 MatchTarget::MatchTarget(const OccupancyGrid& target, const MatchTargetOptions& options)
-    : options_(options), grid_(target, options.grid) {
+    : options_(options), grid_(target, options.grid), target_(target) {
   matcher_ = std::make_unique<BranchAndBoundMatcher>(grid_, options.search);
   LikelihoodFieldOptions field_options;
   field_options.occupied_probability = LogOddsToProbability(options.grid.occupied_log_odds);
   field_options.max_distance = options.fine_field_max_distance;
-  fine_field_ = std::make_unique<LikelihoodField>(target, field_options);
+  fine_field_ = std::make_shared<const LikelihoodField>(target, field_options);
 }
 
 namespace {
@@ -139,7 +180,24 @@ MatchResult MatchTarget::Match(const MatchSource& source, const SearchWindow& wi
   ExclusionZone zone = gates.distinct;
   zone.center = best->pose;
   const auto second = matcher_->Search(source.coarse, window, gates.max_ambiguity * best->score, zone);
-  const RefinedPose refined = RefinePose(*fine_field_, source.fine, best->pose, options_.refine);
+  // Sided distances only where the source can land during the refinement (plus the field's
+  // reach): building them over a whole map for every match would cost more than the search.
+  Box2d box{best->pose.translation(), best->pose.translation()};
+  for (const Eigen::Vector2d& p : source.fine) {
+    box.min = box.min.cwiseMin(best->pose * p);
+    box.max = box.max.cwiseMax(best->pose * p);
+  }
+  const double reach = options_.refine.sided_search_translation +
+                       options_.refine.max_translation_change + options_.fine_field_max_distance;
+  box.min.array() -= reach;
+  box.max.array() += reach;
+  const SidedDistanceField sided(target_, box, options_.grid.occupied_log_odds,
+                                 options_.grid.free_log_odds, fine_field_);
+  const Box2d allowed{window.center.translation() - window.linear_half_extent,
+                      window.center.translation() + window.linear_half_extent};
+  const RefinedPose refined =
+      RefineSidedPose(sided, {source.coarse, source.coarse_normals},
+                      {source.fine, source.fine_normals}, best->pose, allowed, options_.refine);
   // The lattice score is the search's verdict; the refined pose only moves within a cell.
   result = EvaluateWithScore(source, refined.pose, gates,
                              std::max(best->score, matcher_->ScoreAt(source.coarse, refined.pose)));

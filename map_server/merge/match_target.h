@@ -11,6 +11,7 @@
 #include "map_server/merge/branch_and_bound_matcher.h"
 #include "map_server/merge/score_grid.h"
 #include "map_server/merge/pose_refiner.h"
+#include "map_server/merge/sided_distance_field.h"
 #include "shared/core/likelihood_field.h"
 #include "shared/core/occupancy_grid.h"
 
@@ -42,13 +43,23 @@ struct MatchGates {
   bool judge_overlap_only = false;
 };
 
-// A source map prepared for matching: wall points in the source frame, thinned.
+// A source map prepared for matching: wall points in the source frame, thinned, each with the
+// side its wall was seen from (unit normal towards free space; zero when seen from both sides).
 struct MatchSource {
   std::vector<Eigen::Vector2d> coarse;
   std::vector<Eigen::Vector2d> fine;
+  std::vector<Eigen::Vector2d> coarse_normals;  // one per coarse point
+  std::vector<Eigen::Vector2d> fine_normals;    // one per fine point
 };
 MatchSource MakeMatchSource(const OccupancyGrid& grid, const Rigid2d& grid_to_source,
                             const MatchTargetOptions& options);
+// Moves the points (and turns the normals) of `source` by `t`.
+void TransformSource(const Rigid2d& t, MatchSource* source);
+// Appends `part`'s points to `source`.
+void AppendSource(const MatchSource& part, MatchSource* source);
+// Keeps one point per voxel and at most as many points as MakeMatchSource keeps; `fine_voxel`
+// is the fine points' voxel size.
+void ThinSource(double fine_voxel, const MatchTargetOptions& options, MatchSource* source);
 
 struct MatchResult {
   bool found = false;     // some pose scored above the gate's minimum
@@ -101,7 +112,10 @@ class MatchTarget {
   MatchTargetOptions options_;
   ScoreGrid grid_;
   std::unique_ptr<BranchAndBoundMatcher> matcher_;
-  std::unique_ptr<LikelihoodField> fine_field_;
+  std::shared_ptr<const LikelihoodField> fine_field_;
+  // The refinement matches wall faces to faces seen from the same side (SidedDistanceField,
+  // built around each match from this copy of the target).
+  OccupancyGrid target_;
 };
 
 }  // namespace fleetmap

@@ -28,10 +28,6 @@ Eigen::Vector2d GridCenter(const OccupancyGrid& grid) {
   return grid.origin() + 0.5 * grid.resolution() * Eigen::Vector2d(grid.width(), grid.height());
 }
 
-void Transform(const Rigid2d& t, std::vector<Eigen::Vector2d>* points) {
-  for (Eigen::Vector2d& p : *points) p = t * p;
-}
-
 void FillEvent(const MatchResult& r, AlignmentEvent* event) {
   event->score = r.score;
   event->ambiguity = r.ambiguity;
@@ -284,14 +280,11 @@ void MergeEngine::ProcessDetection(size_t index, MergeUpdate* update, bool* keep
   for (const auto& [gap, id] : near) {
     MatchSource part = SubmapSource(d.observed_id, id);
     const Rigid2d to_robot = b_robot.inverse() * *graph_.NodePose({d.observed_id, id});
-    Transform(to_robot, &part.coarse);
-    Transform(to_robot, &part.fine);
-    source.coarse.insert(source.coarse.end(), part.coarse.begin(), part.coarse.end());
-    source.fine.insert(source.fine.end(), part.fine.begin(), part.fine.end());
+    TransformSource(to_robot, &part);
+    AppendSource(part, &source);
     event.submaps_b.push_back(id);
   }
-  source.coarse = VoxelFilter(source.coarse, options_.match.source_voxel, options_.match.max_source_points);
-  source.fine = VoxelFilter(source.fine, options_.render_resolution, options_.match.max_fine_points);
+  ThinSource(options_.render_resolution, options_.match, &source);
 
   SearchWindow window;
   const double sigma = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(d.covariance).eigenvalues().maxCoeff());

@@ -53,8 +53,7 @@ std::optional<std::string> MergeEngine::SearchWholeMaps(const std::string& root_
   if (target.empty() || source.coarse.empty()) return std::nullopt;
   // Turn about the source's centroid, so that the window only has to cover the target.
   const Eigen::Vector2d c = Centroid(source.coarse);
-  for (auto& p : source.coarse) p -= c;
-  for (auto& p : source.fine) p -= c;
+  TransformSource(Rigid2d(-c, 0.0), &source);
   const Rigid2d candidate = b_in_a * Rigid2d(c, 0.0);
   const MatchResult at_candidate = target.Evaluate(source, candidate, options_.cross_gates);
   std::ostringstream why;

@@ -187,8 +187,7 @@ void MergeEngine::ProcessCrossMatches(MergeUpdate* update) {
         // Rotate about the points' centroid so the window only has to cover the target map.
         MatchSource source = SubmapSource(robot_id, id);
         const Eigen::Vector2d c = Centroid(source.coarse);
-        for (auto& p : source.coarse) p -= c;
-        for (auto& p : source.fine) p -= c;
+        TransformSource(Rigid2d(-c, 0.0), &source);
         SearchWindow window;
         window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
         window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());

@@ -97,8 +97,35 @@ LikelihoodField::LikelihoodField(const std::vector<Eigen::Vector2d>& obstacles, 
 void LikelihoodField::Compute(const std::vector<uint8_t>& obstacle_mask) {
   const size_t n = static_cast<size_t>(width_) * height_;
   distance_.assign(n, static_cast<float>(options_.max_distance));
-  has_obstacles_ = std::find(obstacle_mask.begin(), obstacle_mask.end(), 1) != obstacle_mask.end();
+  const size_t obstacles =
+      static_cast<size_t>(std::count(obstacle_mask.begin(), obstacle_mask.end(), 1));
+  has_obstacles_ = obstacles > 0;
   if (!has_obstacles_) return;
+  // Distances are clamped at max_distance, so only the disk of that radius round each obstacle
+  // matters. Where obstacles are sparse (a few wall cells in a large grid), stamping those disks
+  // is cheaper than the full transform below (measured: several times faster per cell touched),
+  // and gives the same distances.
+  const int reach = static_cast<int>(std::ceil(options_.max_distance / resolution_));
+  const size_t disk = static_cast<size_t>((2 * reach + 1) * (2 * reach + 1));
+  if (obstacles * disk < 8 * n) {
+    std::vector<float> squared(n, kInfinity);
+    for (int y = 0; y < height_; ++y) {
+      for (int x = 0; x < width_; ++x) {
+        if (!obstacle_mask[static_cast<size_t>(y) * width_ + x]) continue;
+        for (int dy = std::max(-reach, -y); dy <= std::min(reach, height_ - 1 - y); ++dy) {
+          float* row = squared.data() + static_cast<size_t>(y + dy) * width_ + x;
+          for (int dx = std::max(-reach, -x); dx <= std::min(reach, width_ - 1 - x); ++dx) {
+            row[dx] = std::min(row[dx], static_cast<float>(dx * dx + dy * dy));
+          }
+        }
+      }
+    }
+    const float max_distance = static_cast<float>(options_.max_distance);
+    for (size_t i = 0; i < n; ++i) {
+      distance_[i] = std::min(max_distance, std::sqrt(squared[i]) * static_cast<float>(resolution_));
+    }
+    return;
+  }
   std::vector<float> squared(n);
   for (size_t i = 0; i < n; ++i) squared[i] = obstacle_mask[i] ? 0.0f : kInfinity;
   const int longest = std::max(width_, height_);
