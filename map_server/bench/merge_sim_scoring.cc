@@ -177,9 +177,11 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::Wor
   for (size_t i = 0; i < known.names.size(); ++i) {
     if (known.names[i] != reference || !known.local_in_world[i]) continue;
     const auto grid = engine.RenderGlobalMap(std::nullopt, 0.05, error);
-    if (grid)
-      result->map_accuracy =
-          sim::ScoreAgainstWalls(*grid, *known.local_in_world[i], world).fraction();
+    if (!grid) continue;
+    result->map_accuracy =
+        sim::ScoreAgainstWalls(*grid, *known.local_in_world[i], world).fraction();
+    result->map_accuracy_best_fit =
+        sim::ScoreAgainstWallsBestFit(*grid, *known.local_in_world[i], world).fraction();
   }
 }
 

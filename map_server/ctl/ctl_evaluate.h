@@ -35,6 +35,8 @@ struct MergeEvaluation {
   std::vector<PairError> pairs;
   std::vector<std::string> unplaced;  // robots in the ground truth the server has not placed
   std::optional<double> map_accuracy;  // share of occupied cells within tolerance of a wall
+  // The same at the best rigid placement near the reference robot's (FitMapToWalls).
+  std::optional<double> map_accuracy_best_fit;
   long occupied_cells = 0;
 };
 
@@ -43,9 +45,11 @@ struct MergeEvaluation {
 MergeEvaluation EvaluatePlacements(const std::map<std::string, Rigid2d>& placements,
                                    const std::map<std::string, Rigid2d>& truth);
 // Share of the global map's occupied cells within `tolerance` metres of an occupied world cell,
-// with `world_from_global` mapping global coordinates into the world.
+// with `world_from_global` mapping global coordinates into the world; with `best_fit_accuracy`,
+// also the share at the best rigid placement near that one (FitMapToWalls).
 double MapAccuracy(const OccupancyGrid& global_map, const OccupancyGrid& world,
-                   const Rigid2d& world_from_global, double tolerance, long* occupied_cells);
+                   const Rigid2d& world_from_global, double tolerance, long* occupied_cells,
+                   double* best_fit_accuracy = nullptr);
 
 // Reads true start poses from a ground-truth YAML; false with `error` on a bad file.
 bool ReadStartPoses(const std::string& path, std::map<std::string, Rigid2d>* starts,

@@ -22,6 +22,11 @@ struct MapAccuracy {
 MapAccuracy ScoreAgainstWalls(const OccupancyGrid& grid, const Rigid2d& grid_in_world,
                               const World& world);
 
+// The same score at the best placement near `initial` (FitMapToWalls); `best` receives the
+// placement when given.
+MapAccuracy ScoreAgainstWallsBestFit(const OccupancyGrid& grid, const Rigid2d& initial,
+                                     const World& world, Rigid2d* best = nullptr);
+
 }  // namespace fleetmap::sim
 
 #endif  // FLEETMAP_ROBOT_AGENT_SIM_MAP_ACCURACY_H_

@@ -1,9 +1,9 @@
 #include "map_server/ctl/ctl_evaluate.h"
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
-
-#include <gtest/gtest.h>
 
 #include "tests/support/test_support.h"
 
@@ -11,7 +11,8 @@ namespace fleetmap {
 namespace {
 
 TEST(CtlEvaluateTest, PerfectPlacementsHaveZeroError) {
-  const std::map<std::string, Rigid2d> truth = {{"a", Rigid2d(2, 3, 0.5)}, {"b", Rigid2d(-4, 1, -2.0)}};
+  const std::map<std::string, Rigid2d> truth = {{"a", Rigid2d(2, 3, 0.5)},
+                                                {"b", Rigid2d(-4, 1, -2.0)}};
   // The server's global frame is arbitrary: here it is a's local frame.
   const Rigid2d global_in_world = truth.at("a");
   std::map<std::string, Rigid2d> placements;
@@ -51,6 +52,11 @@ TEST(CtlEvaluateTest, MapAccuracyCountsCellsNearWalls) {
   EXPECT_EQ(occupied, 100);
   // Shifting the global frame by 1 m in y puts the "on the wall" cells off it.
   EXPECT_NEAR(MapAccuracy(global, world, Rigid2d(0, 1.0, 0), 0.05, &occupied), 0.0, 1e-9);
+  // Shifted by 0.12 m, the best rigid placement nearby puts them back on it.
+  double best_fit = 0.0;
+  EXPECT_NEAR(MapAccuracy(global, world, Rigid2d(0, 0.12, 0), 0.05, &occupied, &best_fit), 0.0,
+              1e-9);
+  EXPECT_NEAR(best_fit, 0.9, 1e-9);
 }
 
 TEST(CtlEvaluateTest, BadGroundTruthFilesAreErrors) {
@@ -61,7 +67,8 @@ TEST(CtlEvaluateTest, BadGroundTruthFilesAreErrors) {
   std::ofstream(dir + "/bad.yaml") << "robots:\n  - name: a\n";
   EXPECT_FALSE(ReadStartPoses(dir + "/bad.yaml", &starts, &error));
   EXPECT_NE(error.find("start"), std::string::npos);
-  std::ofstream(dir + "/nan.yaml") << "robots:\n  - name: a\n    start: {x: .nan, y: 0, theta: 0}\n";
+  std::ofstream(dir + "/nan.yaml")
+      << "robots:\n  - name: a\n    start: {x: .nan, y: 0, theta: 0}\n";
   EXPECT_FALSE(ReadStartPoses(dir + "/nan.yaml", &starts, &error));
   std::ofstream(dir + "/ok.yaml") << "robots:\n  - name: a\n    start: {x: 1, y: 2, theta: 0.5}\n";
   ASSERT_TRUE(ReadStartPoses(dir + "/ok.yaml", &starts, &error)) << error;

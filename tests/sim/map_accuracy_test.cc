@@ -33,5 +33,39 @@ TEST(MapAccuracyTest, CountsOccupiedCellsWithinOneCellOfAWall) {
   EXPECT_EQ(MapAccuracy().fraction(), 0.0);
 }
 
+// Thin walls in an open hall, and a map of them whose frame is 0.17 m and 0.25 degrees off the
+// world's: placed there it scores poorly, at the best fit every wall cell is on a wall again.
+TEST(MapAccuracyTest, BestFitFindsThePlacementOfAShiftedMap) {
+  WorldBuilder builder("hall", 0.05, Eigen::Vector2d(6.0, 5.0));
+  builder.Carve({0.1, 0.1}, {5.9, 4.9});
+  const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls = {
+      {{1.0, 1.0}, {5.0, 1.05}},
+      {{1.0, 1.0}, {1.05, 4.0}},
+      {{3.0, 2.5}, {5.0, 2.55}},
+      {{4.0, 1.0}, {4.05, 2.0}}};
+  for (const auto& [min, max] : walls) builder.Fill(min, max);
+  const World world = builder.Build();
+  const Rigid2d map_in_world(0.14, -0.1, 0.25 * M_PI / 180.0);
+  OccupancyGrid map;
+  for (const auto& [min, max] : walls) {
+    for (double x = min.x() + 0.025; x < max.x(); x += 0.05) {
+      for (double y = min.y() + 0.025; y < max.y(); y += 0.05) {
+        map.SetLogOdds(map.CellAt(map_in_world.inverse() * Eigen::Vector2d(x, y)), 2.0f);
+      }
+    }
+  }
+  EXPECT_LT(ScoreAgainstWalls(map, Rigid2d(), world).fraction(), 0.3);
+  Rigid2d best;
+  const MapAccuracy fitted = ScoreAgainstWallsBestFit(map, Rigid2d(), world, &best);
+  EXPECT_GT(fitted.fraction(), 0.99);
+  // Within one cell every placement near the true one scores alike; the best found is one of
+  // them, and scores the same by the plain rule.
+  EXPECT_NEAR(best.translation().x(), 0.14, 0.1);
+  EXPECT_NEAR(best.translation().y(), -0.1, 0.1);
+  const MapAccuracy again = ScoreAgainstWalls(map, best, world);
+  EXPECT_EQ(again.near_wall, fitted.near_wall);
+  EXPECT_EQ(again.occupied, fitted.occupied);
+}
+
 }  // namespace
 }  // namespace fleetmap::sim
