@@ -198,7 +198,8 @@ MatchResult MatchTarget::Match(const MatchSource& source, const SearchWindow& wi
   const RefinedPose refined =
       RefineSidedPose(sided, {source.coarse, source.coarse_normals},
                       {source.fine, source.fine_normals}, best->pose, allowed, options_.refine);
-  // The lattice score is the search's verdict; the refined pose only moves within a cell.
+  // The lattice score is the search's verdict: the side-blind score grid may rate the refined
+  // pose (a wall thickness off the lattice answer, faces on their own faces) lower.
   result = EvaluateWithScore(source, refined.pose, gates,
                              std::max(best->score, matcher_->ScoreAt(source.coarse, refined.pose)));
   if (second) {

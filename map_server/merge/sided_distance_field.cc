@@ -5,6 +5,7 @@
 #include "map_server/merge/grid_points.h"
 
 namespace fleetmap {
+
 int SidedDistanceField::SectorOf(const Eigen::Vector2d& normal) {
   if (normal.isZero()) return -1;
   const int k =
