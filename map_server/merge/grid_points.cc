@@ -70,13 +70,6 @@ std::vector<size_t> VoxelFilterIndices(const std::vector<Eigen::Vector2d>& point
   return thinned;
 }
 
-std::vector<Eigen::Vector2d> VoxelFilter(const std::vector<Eigen::Vector2d>& points,
-                                         double cell_size, size_t max_points) {
-  std::vector<Eigen::Vector2d> kept;
-  for (size_t i : VoxelFilterIndices(points, cell_size, max_points)) kept.push_back(points[i]);
-  return kept;
-}
-
 Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& points) {
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   for (const Eigen::Vector2d& p : points) sum += p;

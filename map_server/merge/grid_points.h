@@ -27,14 +27,11 @@ std::vector<Eigen::Vector2d> WallNormals(const OccupancyGrid& grid, float occupi
                                          float free_log_odds,
                                          const Rigid2d& grid_to_frame = Rigid2d());
 
-// The indices VoxelFilter() keeps.
+// Indices of the points kept when thinning: one point per `cell_size` square (the first one
+// seen), then at most `max_points` evenly spread over the remainder: bounded work per match
+// whatever the submap size.
 std::vector<size_t> VoxelFilterIndices(const std::vector<Eigen::Vector2d>& points,
                                        double cell_size, size_t max_points);
-
-// Keeps one point per `cell_size` square (the first one seen), then at most `max_points`
-// evenly spread over the remainder: bounded work per match whatever the submap size.
-std::vector<Eigen::Vector2d> VoxelFilter(const std::vector<Eigen::Vector2d>& points,
-                                         double cell_size, size_t max_points);
 
 // The mean of the points (zero for none).
 Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& points);

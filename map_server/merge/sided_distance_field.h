@@ -4,7 +4,6 @@
 #include <Eigen/Core>
 #include <array>
 #include <memory>
-#include <vector>
 
 #include "map_server/merge/log_odds_canvas.h"
 #include "shared/core/likelihood_field.h"
