@@ -85,9 +85,11 @@ int Run(int argc, char** argv) {
   };
   if (!RunSlam(log, slam.get(), &result, &error, progress)) return Fail(error);
   if (!quiet) std::cerr << "\n" << slam->Statistics() << "\n";
+  slam.reset();  // its maps are no longer needed while the submaps are unpacked
 
+  const std::vector<Submap> unpacked = UnpackSubmaps(result);
   std::vector<const Submap*> submaps;
-  for (const auto& [id, submap] : result.submaps) submaps.push_back(&submap);
+  for (const Submap& submap : unpacked) submaps.push_back(&submap);
   OccupancyGridOptions grid_options;
   grid_options.resolution = resolution;
   const OccupancyGrid map = AssembleSubmaps(submaps, grid_options);

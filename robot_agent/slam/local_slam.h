@@ -2,6 +2,7 @@
 #define FLEETMAP_ROBOT_AGENT_SLAM_LOCAL_SLAM_H_
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -43,7 +44,13 @@ class LocalSlam {
 
   // Submaps that are new, changed or finished since the previous call, as snapshots. A submap
   // is reported again with a higher `revision` when the backend changes its mind about it.
-  virtual std::vector<Submap> TakeSubmapUpdates() = 0;
+  std::vector<Submap> TakeSubmapUpdates() {
+    return TakeSubmapUpdates(std::numeric_limits<size_t>::max());
+  }
+  // The same, at most `max_count` of them; the rest come with the next calls. A caller that
+  // keeps every submap takes a few at a time, so that a loop closure that moves all of them
+  // never holds each grid twice (the caller's copy and its new rendering).
+  virtual std::vector<Submap> TakeSubmapUpdates(size_t max_count) = 0;
 
   // End of input: finishes the active submap, so the next TakeSubmapUpdates() returns it.
   virtual void Finish() = 0;

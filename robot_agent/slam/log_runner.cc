@@ -144,6 +144,13 @@ bool LoadSlamLog(const std::string& path, const SlamLogOptions& options, SlamLog
   return true;
 }
 
+std::vector<Submap> UnpackSubmaps(const SlamRunResult& result) {
+  std::vector<Submap> submaps;
+  submaps.reserve(result.submaps.size());
+  for (const auto& [id, packed] : result.submaps) submaps.push_back(UnpackSubmap(packed));
+  return submaps;
+}
+
 bool RunSlam(const SlamLog& log, LocalSlam* slam, SlamRunResult* result, std::string* error,
              const std::function<void(size_t, size_t)>& progress) {
   *result = SlamRunResult();
@@ -152,10 +159,16 @@ bool RunSlam(const SlamLog& log, LocalSlam* slam, SlamRunResult* result, std::st
   const size_t total = log.scans.size();
   const size_t report_every = std::max<size_t>(1, total / 20);
   const auto start = std::chrono::steady_clock::now();
+  // A few at a time: each replaces (and frees) the one it supersedes before the next is
+  // rendered, so a loop closure that moves every submap does not hold two copies of the map.
   auto collect = [&]() {
-    for (Submap& submap : slam->TakeSubmapUpdates()) {
-      const int64_t id = submap.submap_id;
-      result->submaps[id] = std::move(submap);
+    constexpr size_t kBatch = 4;
+    for (std::vector<Submap> batch = slam->TakeSubmapUpdates(kBatch); !batch.empty();
+         batch = slam->TakeSubmapUpdates(kBatch)) {
+      for (Submap& submap : batch) {
+        const int64_t id = submap.submap_id;
+        result->submaps[id] = PackSubmap(std::move(submap));
+      }
     }
   };
   for (size_t i = 0; i < total; ++i) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "robot_agent/slam/local_slam.h"
+#include "robot_agent/slam/packed_submap.h"
 #include "shared/core/laser_scan.h"
 #include "shared/core/submap.h"
 #include "shared/core/trajectory.h"
@@ -41,9 +42,12 @@ bool LoadSlamLog(const std::string& path, const SlamLogOptions& options, SlamLog
 
 struct SlamRunResult {
   Trajectory trajectory;               // one pose per scan
-  std::map<int64_t, Submap> submaps;   // latest version of every submap, by id
+  std::map<int64_t, PackedSubmap> submaps;  // latest version of every submap, by id
   double seconds = 0.0;                // wall time spent inside the backend
 };
+
+// The result's submaps unpacked, by id.
+std::vector<Submap> UnpackSubmaps(const SlamRunResult& result);
 
 // Feeds the log to `slam` in time order. `progress(done, total)` is called now and then.
 bool RunSlam(const SlamLog& log, LocalSlam* slam, SlamRunResult* result, std::string* error,

@@ -231,15 +231,15 @@ Rigid2d ParticleSlam::CurrentPose() const {
   return trajectory_.empty() ? Rigid2d() : trajectory_.back().pose;
 }
 
-std::vector<Submap> ParticleSlam::TakeSubmapUpdates() {
-  std::vector<Submap> updates = submaps_.TakeUpdates();
+std::vector<Submap> ParticleSlam::TakeSubmapUpdates(size_t max_count) {
+  std::vector<Submap> updates = submaps_.TakeUpdates(max_count);
   if (!loop_closure_) return updates;
   // Submaps the pose graph moved go out again, rendered anew (no grid is kept meanwhile).
-  for (int64_t id : loop_closure_->TakeMovedSubmaps()) {
-    if (std::any_of(updates.begin(), updates.end(),
-                    [id](const Submap& submap) { return submap.submap_id == id; })) {
-      continue;
-    }
+  for (int64_t id : loop_closure_->TakeMovedSubmaps()) moved_submaps_.insert(id);
+  for (const Submap& submap : updates) moved_submaps_.erase(submap.submap_id);
+  while (updates.size() < max_count && !moved_submaps_.empty()) {
+    const int64_t id = *moved_submaps_.begin();
+    moved_submaps_.erase(moved_submaps_.begin());
     std::optional<Submap> again = submaps_.RenderPublished(id);
     if (again) updates.push_back(std::move(*again));
   }

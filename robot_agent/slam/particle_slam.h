@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -74,7 +75,8 @@ class ParticleSlam : public LocalSlam {
   Rigid2d CurrentPose() const override;
   const Trajectory& trajectory() const override { return trajectory_; }
   int64_t trajectory_revision() const override { return revision_; }
-  std::vector<Submap> TakeSubmapUpdates() override;
+  using LocalSlam::TakeSubmapUpdates;
+  std::vector<Submap> TakeSubmapUpdates(size_t max_count) override;
   void Finish() override;
   std::string Statistics() const override;
 
@@ -112,6 +114,7 @@ class ParticleSlam : public LocalSlam {
   ParticleSubmaps submaps_;
   ParticleTracker tracker_;
   std::unique_ptr<ParticleLoopClosure> loop_closure_;  // null when off
+  std::set<int64_t> moved_submaps_;  // moved by the pose graph, not handed out again yet
   Trajectory trajectory_;
   std::vector<ScanAnchor> anchors_;
   std::vector<Rigid2d> keyframe_poses_;  // the best particle's

@@ -70,7 +70,7 @@ std::optional<Submap> ParticleSubmaps::RenderPublished(int64_t submap_id) const 
   return submap;
 }
 
-std::vector<Submap> ParticleSubmaps::TakeUpdates() {
+std::vector<Submap> ParticleSubmaps::TakeUpdates(size_t max_count) {
   std::vector<Submap> updates;
   if (!dirty_) return updates;
   dirty_ = false;
@@ -79,6 +79,10 @@ std::vector<Submap> ParticleSubmaps::TakeUpdates() {
   const size_t group_count = (count + per - 1) / per;
   if (groups_.size() < group_count) groups_.resize(group_count);
   for (size_t g = 0; g < group_count; ++g) {
+    if (updates.size() >= max_count) {
+      dirty_ = true;  // the rest on the next call
+      break;
+    }
     const size_t begin = g * per, end = std::min(count, begin + per);
     const bool finished = end - begin == per || finishing_;
     const std::vector<Rigid2d> poses(poses_.begin() + static_cast<long>(begin), poses_.begin() + static_cast<long>(end));

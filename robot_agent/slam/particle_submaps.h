@@ -26,8 +26,8 @@ class ParticleSubmaps {
   void SetPoses(const std::vector<Rigid2d>& keyframe_poses);
   // Ends input: the last group counts as finished.
   void Finish();
-  // Submaps new or changed since the last call.
-  std::vector<Submap> TakeUpdates();
+  // Submaps new or changed since the last call, at most `max_count` (the rest stay pending).
+  std::vector<Submap> TakeUpdates(size_t max_count);
   // A submap handed out before, rendered again at the current poses (grids are not kept: the
   // scans are); empty for ids never handed out.
   std::optional<Submap> RenderPublished(int64_t submap_id) const;

@@ -189,22 +189,22 @@ void ScanMatchingSlam::ToCorrected(const Rigid2d& local_anchor, const Trajectory
 namespace {
 
 // Whether the anchor or any scan pose moved by more than what rounding could explain.
-bool Moved(const Submap& before, const Submap& after) {
+bool Moved(const Rigid2d& anchor_before, const Trajectory& poses_before, const Submap& after) {
   auto differ = [](const Rigid2d& a, const Rigid2d& b) {
     const Rigid2d delta = a.inverse() * b;
     return delta.translation().norm() > 1e-5 || std::abs(delta.rotation()) > 1e-6;
   };
-  if (differ(before.submap_in_local, after.submap_in_local)) return true;
-  for (size_t i = 0; i < before.scan_poses.size(); ++i) {
-    if (differ(before.scan_poses[i].pose, after.scan_poses[i].pose)) return true;
+  if (differ(anchor_before, after.submap_in_local)) return true;
+  for (size_t i = 0; i < poses_before.size(); ++i) {
+    if (differ(poses_before[i].pose, after.scan_poses[i].pose)) return true;
   }
   return false;
 }
 
 }  // namespace
 
-std::vector<Submap> ScanMatchingSlam::TakeSubmapUpdates() {
-  std::vector<Submap> updates = submaps_.TakeUpdates();
+std::vector<Submap> ScanMatchingSlam::TakeSubmapUpdates(size_t max_count) {
+  std::vector<Submap> updates = submaps_.TakeUpdates(max_count);
   std::vector<int64_t> fresh;
   for (Submap& submap : updates) {
     const Rigid2d local_anchor = submap.submap_in_local;
@@ -216,16 +216,23 @@ std::vector<Submap> ScanMatchingSlam::TakeSubmapUpdates() {
     }
   }
   if (submaps_moved_) {
-    // Finished submaps the graph moved since they were last handed out go out again.
+    // Finished submaps the graph moved since they were last handed out go out again; those
+    // beyond max_count on a later call (they will still differ from what went out).
+    submaps_moved_ = false;
     for (auto& [id, published] : published_) {
+      if (updates.size() >= max_count) {
+        submaps_moved_ = true;
+        break;
+      }
       if (std::find(fresh.begin(), fresh.end(), id) != fresh.end()) continue;
-      const Submap before = published.submap;
+      // Only the poses are compared: copying the grid as well cost a grid per submap per call.
+      const Rigid2d anchor_before = published.submap.submap_in_local;
+      const Trajectory poses_before = published.submap.scan_poses;
       ToCorrected(published.local_anchor, published.local_scan_poses, &published.submap);
-      if (!Moved(before, published.submap)) continue;
+      if (!Moved(anchor_before, poses_before, published.submap)) continue;
       ++published.submap.revision;
       updates.push_back(published.submap);
     }
-    submaps_moved_ = false;
   }
   return updates;
 }

@@ -74,7 +74,8 @@ class ScanMatchingSlam : public LocalSlam {
   Rigid2d CurrentPose() const override;
   const Trajectory& trajectory() const override { return trajectory_; }
   int64_t trajectory_revision() const override { return revision_; }
-  std::vector<Submap> TakeSubmapUpdates() override;
+  using LocalSlam::TakeSubmapUpdates;
+  std::vector<Submap> TakeSubmapUpdates(size_t max_count) override;
   void Finish() override;
   std::string Statistics() const override;
 

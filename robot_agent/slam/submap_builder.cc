@@ -1,6 +1,8 @@
 #include "robot_agent/slam/submap_builder.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <utility>
 
 namespace fleetmap {
@@ -67,10 +69,13 @@ bool SubmapBuilder::Revise(int64_t submap_id, const Rigid2d& new_submap_in_local
   return false;
 }
 
-std::vector<Submap> SubmapBuilder::TakeUpdates() {
-  std::vector<Submap> updates = std::move(finished_);
-  finished_.clear();
-  if (active_ && active_changed_) {
+std::vector<Submap> SubmapBuilder::TakeUpdates(size_t max_count) {
+  std::vector<Submap> updates;
+  const size_t taken = std::min(max_count, finished_.size());
+  updates.reserve(taken + 1);
+  std::move(finished_.begin(), finished_.begin() + static_cast<long>(taken), std::back_inserter(updates));
+  finished_.erase(finished_.begin(), finished_.begin() + static_cast<long>(taken));
+  if (active_ && active_changed_ && updates.size() < max_count) {
     updates.push_back(*active_);
     ++active_->revision;  // the next snapshot of it differs from this one
     active_changed_ = false;

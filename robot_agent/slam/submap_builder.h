@@ -2,6 +2,7 @@
 #define FLEETMAP_ROBOT_AGENT_SLAM_SUBMAP_BUILDER_H_
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -44,8 +45,9 @@ class SubmapBuilder {
   // returns false otherwise.
   bool Revise(int64_t submap_id, const Rigid2d& new_submap_in_local);
 
-  // Snapshots of submaps changed since the last call; finished ones are then forgotten.
-  std::vector<Submap> TakeUpdates();
+  // Snapshots of submaps changed since the last call, at most `max_count` (oldest first; the
+  // rest stay for the next call); finished ones are then forgotten.
+  std::vector<Submap> TakeUpdates(size_t max_count = std::numeric_limits<size_t>::max());
 
   const Submap* active() const { return active_ ? active_.get() : nullptr; }
   int64_t next_submap_id() const { return next_id_; }

@@ -10,6 +10,8 @@ std::string ZstdCompress(const void* data, size_t size, int level) {
   // Compressing into a buffer of compressBound bytes cannot fail for valid levels.
   if (ZSTD_isError(written)) return std::string();
   out.resize(written);
+  // Frames are often kept (stored grids, packed submaps): give back the bound's spare capacity.
+  out.shrink_to_fit();
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "robot_agent/slam/loop_closure.h"
 
+#include <limits>
 #include <map>
 #include <random>
 
@@ -144,7 +145,10 @@ TEST(LoopClosureTest, RebuildsDroppedTargetsExactly) {
   }
 }
 
-TEST(LoopClosureTest, PublishesRevisionsWhenTheGraphMovesPoses) {
+// Runs the irregular ring through the scan-matching backend, taking submap updates every 20
+// scans `max_count` at a time until none are left, and checks what a keeper of the latest
+// submaps ends with.
+void ExpectRevisionsFollowTheGraph(size_t max_count) {
   const testing::SegmentWorld world = IrregularRing();
   const std::vector<Rigid2d> truth = RingPoses(1.25);
   ScanMatchingSlamOptions options;
@@ -163,13 +167,17 @@ TEST(LoopClosureTest, PublishesRevisionsWhenTheGraphMovesPoses) {
     ASSERT_TRUE(slam.AddScan(scan, &error)) << error;
     if (i % 20 == 0 || i + 1 == truth.size()) {
       if (i + 1 == truth.size()) slam.Finish();
-      for (Submap& submap : slam.TakeSubmapUpdates()) {
-        auto found = latest.find(submap.submap_id);
-        if (found != latest.end() && found->second.finished) {
-          ++republished;
-          EXPECT_GT(submap.revision, found->second.revision);
+      for (std::vector<Submap> batch = slam.TakeSubmapUpdates(max_count); !batch.empty();
+           batch = slam.TakeSubmapUpdates(max_count)) {
+        EXPECT_LE(batch.size(), max_count);
+        for (Submap& submap : batch) {
+          auto found = latest.find(submap.submap_id);
+          if (found != latest.end() && found->second.finished) {
+            ++republished;
+            EXPECT_GT(submap.revision, found->second.revision);
+          }
+          latest[submap.submap_id] = std::move(submap);
         }
-        latest[submap.submap_id] = std::move(submap);
       }
       EXPECT_GE(slam.trajectory_revision(), seen_revision);
       seen_revision = slam.trajectory_revision();
@@ -188,6 +196,13 @@ TEST(LoopClosureTest, PublishesRevisionsWhenTheGraphMovesPoses) {
   const Rigid2d end = truth.front().inverse() * truth.back();
   EXPECT_THAT(slam.CurrentPose(), testing::IsNearPose(end, 0.1, 1.0 * kDegree));
 }
+
+TEST(LoopClosureTest, PublishesRevisionsWhenTheGraphMovesPoses) {
+  ExpectRevisionsFollowTheGraph(std::numeric_limits<size_t>::max());
+}
+
+// One submap per call: the ones the graph moved that did not fit come with the next calls.
+TEST(LoopClosureTest, PublishesEveryRevisionOneSubmapAtATime) { ExpectRevisionsFollowTheGraph(1); }
 
 }  // namespace
 }  // namespace fleetmap

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <random>
 #include <string>
@@ -171,6 +172,24 @@ double WorstAnchorError(const std::vector<Submap>& submaps, const std::vector<Ri
   return worst;
 }
 
+// Takes every pending submap update, `max_count` per call, into `latest` (as an uploader
+// keeps them); counts finished submaps handed out again.
+void TakeUpdates(LocalSlam* slam, size_t max_count, std::map<int64_t, Submap>* latest,
+                 int* republished) {
+  for (std::vector<Submap> batch = slam->TakeSubmapUpdates(max_count); !batch.empty();
+       batch = slam->TakeSubmapUpdates(max_count)) {
+    EXPECT_LE(batch.size(), max_count);
+    for (Submap& submap : batch) {
+      const auto before = latest->find(submap.submap_id);
+      if (before != latest->end()) {
+        EXPECT_GT(submap.revision, before->second.revision);
+        if (before->second.finished) ++*republished;
+      }
+      (*latest)[submap.submap_id] = std::move(submap);
+    }
+  }
+}
+
 // Three particles lose the loop: the filter ends 0.6 m off. The loop-closure layer over its
 // settled keyframes closes it, and the submaps come out at the corrected anchors, consistent
 // with the corrected trajectory; submaps handed out before the graph moved them come again
@@ -189,14 +208,7 @@ TEST(RbpfSlamTest, LoopClosureLayerClosesALoopTheFilterMisses) {
   std::map<int64_t, Submap> latest;  // as an uploader would keep them
   int republished = 0;
   auto take_updates = [&] {
-    for (Submap& submap : closed.TakeSubmapUpdates()) {
-      const auto before = latest.find(submap.submap_id);
-      if (before != latest.end()) {
-        EXPECT_GT(submap.revision, before->second.revision);
-        if (before->second.finished) ++republished;
-      }
-      latest[submap.submap_id] = std::move(submap);
-    }
+    TakeUpdates(&closed, std::numeric_limits<size_t>::max(), &latest, &republished);
   };
   int scans = 0;
   RunLoop(&closed, truth, odometry, [&] {
@@ -233,6 +245,43 @@ TEST(RbpfSlamTest, LoopClosureLayerClosesALoopTheFilterMisses) {
     EXPECT_LT(worst, 1e-9) << "submap " << submap.submap_id;
   }
   EXPECT_TRUE(closed.TakeSubmapUpdates().empty());
+}
+
+// Submaps taken one at a time (as fleetmap-slam takes them, a few at a time, so that a graph
+// that moves every submap never holds two copies of the map) end the same as taken all at once.
+TEST(RbpfSlamTest, LoopClosureLayerHandsOutEveryMovedSubmapOneAtATime) {
+  const std::vector<Rigid2d> truth = LoopPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 3);
+  ParticleSlamOptions options = SmallRbpf(1, 2);
+  options.filter.particles = 3;
+  options.loop_closure.enabled = true;
+  auto run = [&](size_t max_count, int* republished) {
+    ParticleSlam slam(options);
+    std::map<int64_t, Submap> latest;
+    auto take_updates = [&] { TakeUpdates(&slam, max_count, &latest, republished); };
+    int scans = 0;
+    RunLoop(&slam, truth, odometry, [&] {
+      if (++scans % 20 == 0) take_updates();
+    });
+    slam.Finish();
+    take_updates();
+    return latest;
+  };
+  int all_republished = 0, one_republished = 0;
+  const std::map<int64_t, Submap> all = run(std::numeric_limits<size_t>::max(), &all_republished);
+  const std::map<int64_t, Submap> one = run(1, &one_republished);
+  EXPECT_GT(one_republished, 0);
+  ASSERT_EQ(one.size(), all.size());
+  for (const auto& [id, submap] : all) {
+    const Submap& other = one.at(id);
+    EXPECT_TRUE(other.finished);
+    EXPECT_THAT(other.submap_in_local, IsNearPose(submap.submap_in_local, 1e-12, 1e-12)) << id;
+    ASSERT_EQ(other.scan_poses.size(), submap.scan_poses.size());
+    for (size_t i = 0; i < submap.scan_poses.size(); ++i) {
+      EXPECT_THAT(other.scan_poses[i].pose, IsNearPose(submap.scan_poses[i].pose, 1e-12, 1e-12));
+    }
+    EXPECT_EQ(other.grid.log_odds(), submap.grid.log_odds()) << "submap " << id;
+  }
 }
 
 // Without loop closures the layer must hand back the filter's own final trajectory, although

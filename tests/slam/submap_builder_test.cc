@@ -18,12 +18,18 @@ LaserScan ScanAt(const Rigid2d& pose, double time) {
   return scan;
 }
 
-TEST(SubmapBuilderTest, FinishesAfterTheConfiguredScanCount) {
+// Five scans per submap, twelve scans inserted: two finished submaps and an active one.
+SubmapBuilder TwelveScansFivePerSubmap() {
   SubmapOptions options;
   options.max_scans = 5;
   options.max_travel = 0.0;
   SubmapBuilder builder("r1", options);
   for (int i = 0; i < 12; ++i) builder.Insert(ScanAt(Rigid2d(0.01 * i, 0.0, 0.0), i), Rigid2d(0.01 * i, 0.0, 0.0));
+  return builder;
+}
+
+TEST(SubmapBuilderTest, FinishesAfterTheConfiguredScanCount) {
+  SubmapBuilder builder = TwelveScansFivePerSubmap();
   std::vector<Submap> updates = builder.TakeUpdates();
   ASSERT_EQ(updates.size(), 3u);  // two finished, one active with two scans
   EXPECT_TRUE(updates[0].finished);
@@ -43,6 +49,18 @@ TEST(SubmapBuilderTest, FinishesAfterTheConfiguredScanCount) {
   EXPECT_TRUE(updates[0].finished);
   EXPECT_EQ(updates[0].submap_id, 2);
   EXPECT_GT(updates[0].revision, 0);
+}
+
+TEST(SubmapBuilderTest, HandsOutAtMostTheRequestedCountOldestFirst) {
+  SubmapBuilder builder = TwelveScansFivePerSubmap();
+  // Two finished and the active one are pending; one per call, in order, then nothing.
+  for (int64_t id = 0; id < 3; ++id) {
+    const std::vector<Submap> updates = builder.TakeUpdates(1);
+    ASSERT_EQ(updates.size(), 1u) << "call " << id;
+    EXPECT_EQ(updates[0].submap_id, id);
+    EXPECT_EQ(updates[0].finished, id < 2);
+  }
+  EXPECT_TRUE(builder.TakeUpdates(1).empty());
 }
 
 TEST(SubmapBuilderTest, FinishesAfterTheConfiguredTravel) {
