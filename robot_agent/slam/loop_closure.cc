@@ -1,6 +1,8 @@
 #include "robot_agent/slam/loop_closure.h"
 
 #include <algorithm>
+#include <atomic>
+#include <thread>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -64,7 +66,7 @@ int LoopClosure::SubmapIndex(int64_t submap_id, const Rigid2d& submap_in_local) 
   entry.id = submap_id;
   entry.local = submap_in_local;
   entry.global = correction * submap_in_local;
-  entry.grid = std::make_unique<MatchGrid>(options_.grid);
+  entry.grid = std::make_shared<MatchGrid>(options_.grid);
   submaps_.push_back(std::move(entry));
   const int index = static_cast<int>(submaps_.size()) - 1;
   submap_index_[submap_id] = index;
@@ -115,11 +117,11 @@ const LoopClosure::SubmapEntry& LoopClosure::Target(size_t index) {
   entry.last_used = static_cast<uint64_t>(searches_) + 1;
   if (entry.pyramid) return entry;
   if (!entry.grid) {
-    entry.grid = std::make_unique<MatchGrid>(options_.grid);
+    entry.grid = std::make_shared<MatchGrid>(options_.grid);
     for (const InsertedScan& scan : entry.scans) entry.grid->AddPoints(scan.points, scan.robot_in_submap);
     ++target_rebuilds_;
   }
-  entry.pyramid = std::make_unique<MatchGridPyramid>(*entry.grid, options_.pyramid_levels);
+  entry.pyramid = std::make_shared<const MatchGridPyramid>(*entry.grid, options_.pyramid_levels);
   ++cached_targets_;
   while (options_.max_cached_targets > 0 && cached_targets_ > options_.max_cached_targets) {
     SubmapEntry* oldest = nullptr;
@@ -143,7 +145,6 @@ void LoopClosure::SearchLoops(int node, const std::vector<Eigen::Vector2f>& poin
   }
   const Node& n = nodes_[static_cast<size_t>(node)];
   const int64_t own_id = submaps_[static_cast<size_t>(n.submap)].id;
-  std::vector<Eigen::Vector2f> search_points;  // built on the first candidate only
   std::vector<std::pair<double, size_t>> nearby;  // (distance, submap index)
   for (size_t s = 0; s < submaps_.size(); ++s) {
     const SubmapEntry& target = submaps_[s];
@@ -158,35 +159,64 @@ void LoopClosure::SearchLoops(int node, const std::vector<Eigen::Vector2f>& poin
       nearby.size() > static_cast<size_t>(options_.max_submaps_per_search)) {
     nearby.resize(static_cast<size_t>(options_.max_submaps_per_search));
   }
+  // Targets are fetched in order (the cache's bookkeeping stays on this thread); the searches
+  // then run concurrently and their matches are kept in that order, so the result does not
+  // depend on the thread count.
+  std::vector<Search> searches;
   for (const auto& [distance, s] : nearby) {
     const SubmapEntry& target = Target(s);
-    if (search_points.empty()) search_points = VoxelFilter(points, options_.search_voxel_size);
     ++searches_;
-    const Rigid2d guess = target.global.inverse() * n.global;
-    CorrelativeSearchOptions search = options_.search;
-    search.linear_window =
-        std::min(search.linear_window,
+    CorrelativeSearchOptions window = options_.search;
+    window.linear_window =
+        std::min(window.linear_window,
                  options_.min_linear_window +
                      options_.linear_window_per_metre * (n.travel - target.linked_travel));
-    const std::optional<CorrelativeMatch> coarse =
-        SearchBranchAndBound(search_points, *target.pyramid, guess, search);
-    if (!coarse) continue;
-    const std::vector<Eigen::Vector2f> seen = PointsLandingOnSeenCells(points, *target.grid, coarse->pose);
-    if (seen.size() < options_.min_observed_fraction * static_cast<double>(points.size())) continue;
-    const PoseRefinement refined =
-        RefinePose(seen, *target.grid, coarse->pose, coarse->pose, options_.refinement);
-    if (!refined.pose.IsFinite() || refined.score < options_.min_refined_score ||
-        refined.inlier_fraction < options_.min_inlier_fraction) {
-      continue;
+    searches.push_back({target.grid, target.pyramid, target.global.inverse() * n.global, window});
+  }
+  if (searches.empty()) return;
+  const std::vector<Eigen::Vector2f> search_points = VoxelFilter(points, options_.search_voxel_size);
+  std::vector<std::optional<Rigid2d>> matches(searches.size());
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t i = next++; i < searches.size(); i = next++) {
+      matches[i] = Match(points, search_points, searches[i]);
     }
-    // Beams start at the robot's origin, as they did when the target's seen space was marked.
-    const double behind = WallsSeenFromBehind(points, Eigen::Vector2d::Zero(), *target.grid,
-                                              refined.pose, options_.seen_from_behind)
-                              .fraction();
-    if (behind > options_.max_seen_from_behind) continue;
-    candidates_.push_back({node, static_cast<int>(s), refined.pose});
+  };
+  const size_t threads =
+      std::min<size_t>(searches.size(), std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> helpers;
+  for (size_t t = 1; t < threads; ++t) helpers.emplace_back(work);
+  work();
+  for (std::thread& helper : helpers) helper.join();
+  for (size_t i = 0; i < nearby.size(); ++i) {
+    if (!matches[i]) continue;
+    candidates_.push_back({node, static_cast<int>(nearby[i].second), *matches[i]});
     ++candidate_count_;
   }
+}
+
+std::optional<Rigid2d> LoopClosure::Match(const std::vector<Eigen::Vector2f>& points,
+                                          const std::vector<Eigen::Vector2f>& search_points,
+                                          const Search& search) const {
+  const std::optional<CorrelativeMatch> coarse =
+      SearchBranchAndBound(search_points, *search.pyramid, search.guess, search.window);
+  if (!coarse) return std::nullopt;
+  const std::vector<Eigen::Vector2f> seen = PointsLandingOnSeenCells(points, *search.grid, coarse->pose);
+  if (seen.size() < options_.min_observed_fraction * static_cast<double>(points.size())) {
+    return std::nullopt;
+  }
+  const PoseRefinement refined =
+      RefinePose(seen, *search.grid, coarse->pose, coarse->pose, options_.refinement);
+  if (!refined.pose.IsFinite() || refined.score < options_.min_refined_score ||
+      refined.inlier_fraction < options_.min_inlier_fraction) {
+    return std::nullopt;
+  }
+  // Beams start at the robot's origin, as they did when the target's seen space was marked.
+  const double behind = WallsSeenFromBehind(points, Eigen::Vector2d::Zero(), *search.grid,
+                                            refined.pose, options_.seen_from_behind)
+                            .fraction();
+  if (behind > options_.max_seen_from_behind) return std::nullopt;
+  return refined.pose;
 }
 
 bool LoopClosure::Agree(const Loop& a, const Loop& b) const {

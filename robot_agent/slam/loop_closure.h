@@ -148,8 +148,9 @@ class LoopClosure {
     int64_t id = 0;
     Rigid2d local;
     Rigid2d global;
-    std::unique_ptr<MatchGrid> grid;  // null while a finished submap is out of the cache
-    std::unique_ptr<MatchGridPyramid> pyramid;  // set when finished and cached
+    // Shared with the searches running on them, so that the cache may drop them meanwhile.
+    std::shared_ptr<MatchGrid> grid;  // null while a finished submap is out of the cache
+    std::shared_ptr<const MatchGridPyramid> pyramid;  // set when finished and cached
     std::vector<InsertedScan> scans;
     bool finished = false;  // a loop-closure target: ended with at least one point
     uint64_t last_used = 0;  // search count when last searched, for the cache
@@ -169,6 +170,18 @@ class LoopClosure {
   // they were dropped); drops the least recently used others beyond max_cached_targets.
   const SubmapEntry& Target(size_t index);
   void SearchLoops(int node, const std::vector<Eigen::Vector2f>& points_in_robot);
+  // One node's scan searched against one finished submap.
+  struct Search {
+    std::shared_ptr<const MatchGrid> grid;
+    std::shared_ptr<const MatchGridPyramid> pyramid;
+    Rigid2d guess;  // the node in the submap frame, by the current estimate
+    CorrelativeSearchOptions window;
+  };
+  // The node's pose in the submap when the match passes every gate (reads only its arguments
+  // and options_: searches run concurrently).
+  std::optional<Rigid2d> Match(const std::vector<Eigen::Vector2f>& points,
+                               const std::vector<Eigen::Vector2f>& search_points,
+                               const Search& search) const;
   // Moves candidates that enough others agree with into loops_, and forgets old ones.
   void ConfirmCandidates();
   bool Agree(const Loop& a, const Loop& b) const;
