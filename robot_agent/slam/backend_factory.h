@@ -20,8 +20,8 @@ struct BackendChoice {
   // filter's motion input (the paper's remedy for FastSLAM's particle depletion).
   bool scan_matched_motion = false;
   // Particle filters only: global loop closure over the best particle's trajectory
-  // (ParticleSlamOptions::loop_closure; off by default, see ParticleLoopClosureOptions).
-  bool particle_loop_closure = false;
+  // (ParticleSlamOptions::loop_closure; on by default, see ParticleLoopClosureOptions).
+  bool particle_loop_closure = true;
 };
 
 // The algorithm names MakeLocalSlam accepts.
