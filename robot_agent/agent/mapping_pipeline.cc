@@ -108,18 +108,23 @@ bool MappingPipeline::QueueSubmaps(bool force_active, std::string* error) {
   const bool active_due =
       force_active || (options_.active_submap_period > 0.0 &&
                        sensor_time_ - last_active_submap_time_ >= options_.active_submap_period);
-  for (const Submap& submap : slam_->TakeSubmapUpdates()) {
-    // Snapshots of the submap being built are skipped between periods; the next one carries a
-    // higher revision, so skipping loses nothing.
-    if (!submap.finished && !active_due) continue;
-    if (!submap.finished) last_active_submap_time_ = sensor_time_;
-    const OutboxKey key{options_.robot_id, OutboxKind::kSubmap, submap.submap_id, submap.revision};
-    if (!Enqueue(key, agent::ToProto(submap, options_.zstd_level).SerializeAsString(),
-                 /*supersede=*/true, error)) {
-      return false;
+  // A few at a time, so that a loop closure that moves every submap is not rendered all at once.
+  constexpr size_t kBatch = 4;
+  for (std::vector<Submap> batch = slam_->TakeSubmapUpdates(kBatch); !batch.empty();
+       batch = slam_->TakeSubmapUpdates(kBatch)) {
+    for (const Submap& submap : batch) {
+      // Snapshots of the submap being built are skipped between periods; the next one carries a
+      // higher revision, so skipping loses nothing.
+      if (!submap.finished && !active_due) continue;
+      if (!submap.finished) last_active_submap_time_ = sensor_time_;
+      const OutboxKey key{options_.robot_id, OutboxKind::kSubmap, submap.submap_id, submap.revision};
+      if (!Enqueue(key, agent::ToProto(submap, options_.zstd_level).SerializeAsString(),
+                   /*supersede=*/true, error)) {
+        return false;
+      }
+      ++counters_.submaps_queued;
+      if (submap.finished) ++counters_.finished_submaps_queued;
     }
-    ++counters_.submaps_queued;
-    if (submap.finished) ++counters_.finished_submaps_queued;
   }
   return true;
 }
