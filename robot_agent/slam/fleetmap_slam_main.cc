@@ -79,8 +79,9 @@ int Run(int argc, char** argv) {
   SlamRunResult result;
   auto progress = [&](size_t done, size_t total) {
     if (quiet) return;
-    std::fprintf(stderr, "\r%s: %zu / %zu scans (%3.0f%%)", choice.algorithm.c_str(), done, total,
-                 100.0 * static_cast<double>(done) / static_cast<double>(total));
+    std::fprintf(stderr, "\r%s: %zu / %zu scans (%3.0f%%)%s", choice.algorithm.c_str(), done, total,
+                 100.0 * static_cast<double>(done) / static_cast<double>(total),
+                 done == total ? "; finishing (last submap, final loop closure)" : "");
     std::fflush(stderr);
   };
   if (!RunSlam(log, slam.get(), &result, &error, progress)) return Fail(error);

@@ -49,7 +49,8 @@ struct SlamRunResult {
 // The result's submaps unpacked, by id.
 std::vector<Submap> UnpackSubmaps(const SlamRunResult& result);
 
-// Feeds the log to `slam` in time order. `progress(done, total)` is called now and then.
+// Feeds the log to `slam` in time order. `progress(done, total)` is called now and then, and
+// with done == total once every scan is in, before the backend finishes.
 bool RunSlam(const SlamLog& log, LocalSlam* slam, SlamRunResult* result, std::string* error,
              const std::function<void(size_t, size_t)>& progress = nullptr);
 

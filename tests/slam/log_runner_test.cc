@@ -54,10 +54,17 @@ TEST(LoadSlamLogTest, ReadsScansInTimeOrderWithTheirOdometry) {
 
   ScanMatchingSlam slam;
   SlamRunResult result;
-  ASSERT_TRUE(RunSlam(log, &slam, &result, &error)) << error;
+  std::vector<size_t> reported;
+  auto progress = [&](size_t done, size_t total) {
+    EXPECT_EQ(total, 3u);
+    reported.push_back(done);
+  };
+  ASSERT_TRUE(RunSlam(log, &slam, &result, &error, progress)) << error;
   ASSERT_EQ(result.trajectory.size(), 3u);
   EXPECT_THAT(result.trajectory[2].pose, testing::IsNearPose(Rigid2d(0.2, 0.0, 0.0), 0.02, 0.01));
   EXPECT_FALSE(result.submaps.empty());
+  // Now and then, then once with every scan in (before the backend's final work), only once.
+  EXPECT_EQ(reported, (std::vector<size_t>{1, 2, 3}));
 }
 
 TEST(LoadSlamLogTest, BadLogsFailWithAClearMessage) {
