@@ -88,12 +88,11 @@ int Run(int argc, char** argv) {
   if (!quiet) std::cerr << "\n" << slam->Statistics() << "\n";
   slam.reset();  // its maps are no longer needed while the submaps are unpacked
 
-  const std::vector<Submap> unpacked = UnpackSubmaps(result);
-  std::vector<const Submap*> submaps;
-  for (const Submap& submap : unpacked) submaps.push_back(&submap);
   OccupancyGridOptions grid_options;
   grid_options.resolution = resolution;
-  const OccupancyGrid map = AssembleSubmaps(submaps, grid_options);
+  OccupancyGrid map(grid_options);
+  // One submap unpacked at a time: all at once took 109 MB for FastSLAM's 252 on intel.
+  for (const auto& [id, packed] : result.submaps) AddSubmapToAssembly(UnpackSubmap(packed), &map);
   if (!WriteMap(out_dir + "/map", map, &error)) return Fail(error);
   if (!WriteMapPng(out_dir + "/map.png", map, &error)) return Fail(error);
   if (!WriteTrajectory(out_dir + "/trajectory.txt", result.trajectory, &error)) return Fail(error);

@@ -144,13 +144,6 @@ bool LoadSlamLog(const std::string& path, const SlamLogOptions& options, SlamLog
   return true;
 }
 
-std::vector<Submap> UnpackSubmaps(const SlamRunResult& result) {
-  std::vector<Submap> submaps;
-  submaps.reserve(result.submaps.size());
-  for (const auto& [id, packed] : result.submaps) submaps.push_back(UnpackSubmap(packed));
-  return submaps;
-}
-
 bool RunSlam(const SlamLog& log, LocalSlam* slam, SlamRunResult* result, std::string* error,
              const std::function<void(size_t, size_t)>& progress) {
   *result = SlamRunResult();

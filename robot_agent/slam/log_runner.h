@@ -46,9 +46,6 @@ struct SlamRunResult {
   double seconds = 0.0;                // wall time spent inside the backend
 };
 
-// The result's submaps unpacked, by id.
-std::vector<Submap> UnpackSubmaps(const SlamRunResult& result);
-
 // Feeds the log to `slam` in time order. `progress(done, total)` is called now and then, and
 // with done == total once every scan is in, before the backend finishes.
 bool RunSlam(const SlamLog& log, LocalSlam* slam, SlamRunResult* result, std::string* error,

@@ -13,6 +13,9 @@ namespace fleetmap {
 // Rotated submaps are resampled by nearest neighbour, so no holes appear.
 OccupancyGrid AssembleSubmaps(const std::vector<const Submap*>& submaps,
                               const OccupancyGridOptions& options);
+// Adds one submap to `grid`: AssembleSubmaps is this over every submap, in order. For callers
+// that hold their submaps packed and unpack one at a time.
+void AddSubmapToAssembly(const Submap& submap, OccupancyGrid* grid);
 
 }  // namespace fleetmap
 
