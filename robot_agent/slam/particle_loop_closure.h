@@ -22,9 +22,10 @@ struct ParticleLoopClosureOptions {
   // Off, the particle filter reports its best particle's poses and maps unchanged. On by
   // default: it helps where the filter does not close loops (RBPF aces 0.048-0.097 m ->
   // 0.044-0.045 m over seeds 1-3; FastSLAM intel 0.14-0.86 m -> 0.06 m, aces, rectangle) and
-  // leaves intel's errors as they were. It costs time (intel RBPF 13 s -> 40 s wall) and memory
-  // (the targets of a few submaps and every node's returns: 133 MiB peak for fleetmap-slam on
-  // intel, within GMapping's 149 MiB only since the tool keeps its submaps packed).
+  // leaves intel's errors as they were. It costs time (intel RBPF 13-22 s -> 30 s wall, with
+  // Rbpf()'s sparser nodes) and memory (the targets of a few submaps and every node's returns:
+  // 118 MiB peak for fleetmap-slam on intel, within GMapping's 149 MiB only since the tool keeps
+  // its submaps packed).
   bool enabled = true;
   // A keyframe goes to the pose graph once every particle descends from it (no resampling can
   // change it any more) or, at the latest, once it is this many keyframes old. Resampling keeps
