@@ -139,30 +139,18 @@ bool SharedTileGrid::NearestHit(const Eigen::Vector2d& point, int radius, Eigen:
   const Eigen::Array2i c = CellOf(point);
   const double r = options_.resolution;
   double best = 1e300;
-  auto consider = [&](const TileCell* cell, int x, int y) {
-    if (cell == nullptr || cell->log_odds <= options_.occupied_log_odds || cell->hit_x == TileCell::kNoHit) {
-      return;
-    }
-    const Eigen::Vector2d h((x + 0.5 + cell->hit_x / 65536.0) * r, (y + 0.5 + cell->hit_y / 65536.0) * r);
-    const double d2 = (h - point).squaredNorm();
-    if (d2 < best) {
-      best = d2;
-      *hit = h;
-    }
-  };
-  const int x0 = c.x() - radius, x1 = c.x() + radius, y0 = c.y() - radius, y1 = c.y() + radius;
-  if (TileOf(x0) == TileOf(x1) && TileOf(y0) == TileOf(y1)) {
-    // The whole neighbourhood lies in one tile (most lookups): find it once. The cells are
-    // visited in the same order either way, so the answer is the same to the bit.
-    const TileCell* corner = Cell(x0, y0);
-    if (corner == nullptr) return false;  // the tile was never observed
-    for (int y = y0; y <= y1; ++y) {
-      const TileCell* row = corner + (y - y0) * kTileSize;
-      for (int x = x0; x <= x1; ++x) consider(row + (x - x0), x, y);
-    }
-  } else {
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) consider(Cell(x, y), x, y);
+  for (int y = c.y() - radius; y <= c.y() + radius; ++y) {
+    for (int x = c.x() - radius; x <= c.x() + radius; ++x) {
+      const TileCell* cell = Cell(x, y);
+      if (cell == nullptr || cell->log_odds <= options_.occupied_log_odds || cell->hit_x == TileCell::kNoHit) {
+        continue;
+      }
+      const Eigen::Vector2d h((x + 0.5 + cell->hit_x / 65536.0) * r, (y + 0.5 + cell->hit_y / 65536.0) * r);
+      const double d2 = (h - point).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        *hit = h;
+      }
     }
   }
   if (best == 1e300) return false;
