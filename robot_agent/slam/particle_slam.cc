@@ -21,6 +21,13 @@ ParticleSlamOptions ParticleSlamOptions::FastSlam() {
   return options;
 }
 
+ScanMatchingSlamOptions ParticleSlamOptions::DefaultTracker() {
+  ScanMatchingSlamOptions options;
+  options.build_submaps = false;
+  options.loop_closure.enabled = false;
+  return options;
+}
+
 ParticleSlamOptions ParticleSlamOptions::Rbpf() {
   ParticleSlamOptions options;
   options.name = "rbpf";
@@ -42,7 +49,12 @@ ParticleSlam::ParticleSlam(const ParticleSlamOptions& options)
         grid.max_trace_range = options.max_range;
         return grid;
       }()),
-      tracker_(options_.tracker) {
+      tracker_([&] {
+        ScanMatchingSlamOptions tracker = options.tracker;
+        tracker.robot_id = options.robot_id;
+        tracker.max_range = options.max_range;
+        return tracker;
+      }()) {
   if (options_.loop_closure.enabled) {
     loop_closure_ = std::make_unique<ParticleLoopClosure>(options_.loop_closure,
                                                           options_.keyframes_per_submap);
@@ -52,25 +64,25 @@ ParticleSlam::ParticleSlam(const ParticleSlamOptions& options)
 bool ParticleSlam::AddOdometry(const StampedPose& odometry, std::string* error) {
   if (!CheckInputTime(odometry.timestamp, last_time_, "odometry", error)) return false;
   if (!odometry_.Add(odometry, error)) return false;
+  if (!tracker_.AddOdometry(odometry, error)) return false;
   last_time_ = odometry.timestamp;
   return true;
 }
 
 ParticleSlam::PreparedScan ParticleSlam::Prepare(const LaserScan& scan,
-                                                 const Rigid2d& predicted) const {
+                                                 const Rigid2d& pose) const {
   PreparedScan prepared;
   prepared.limited = scan;
   for (float& range : prepared.limited.ranges) {
     if (range > options_.max_range) range = LaserScan::kNoReturn;  // a masked (NaN) beam stays masked
   }
   const std::vector<Eigen::Vector2f> returns = ToPointsInRobotFrame(prepared.limited);
-  const std::vector<Eigen::Vector2f> matched = InsideRecentHorizons(returns, predicted);
+  const std::vector<Eigen::Vector2f> matched = InsideRecentHorizons(returns, pose);
   ParticleScan& out = prepared.filter;
   out.match_points = VoxelFilter(matched, options_.match_voxel);
   out.normal_scatter = NormalScatter(matched);
   out.weight_points = VoxelFilter(returns, options_.match_voxel);
-  prepared.tracker_match = VoxelFilter(matched, options_.tracker_voxel);
-  prepared.tracker_map = VoxelFilter(returns, options_.tracker_voxel);
+  prepared.node_points = VoxelFilter(matched, options_.node_voxel);
   out.sensor_origin = scan.sensor_in_robot.translation();
   // Long beams clear space up to max_range without marking a hit; no-return beams are skipped
   // (glass and dropouts).
@@ -87,9 +99,9 @@ ParticleSlam::PreparedScan ParticleSlam::Prepare(const LaserScan& scan,
 }
 
 std::vector<Eigen::Vector2f> ParticleSlam::InsideRecentHorizons(
-    const std::vector<Eigen::Vector2f>& returns, const Rigid2d& predicted) const {
+    const std::vector<Eigen::Vector2f>& returns, const Rigid2d& pose) const {
   if (keyframe_views_.empty() || keyframe_views_.size() != keyframe_poses_.size()) return returns;
-  const size_t recent = static_cast<size_t>(std::max(1, options_.tracker.keyframes));
+  const size_t recent = static_cast<size_t>(std::max(1, options_.horizon_keyframes));
   const size_t first = keyframe_views_.size() > recent ? keyframe_views_.size() - recent : 0;
   std::vector<std::pair<Eigen::Vector2d, double>> views;  // sensor in map, squared reach
   for (size_t k = first; k < keyframe_views_.size(); ++k) {
@@ -100,7 +112,7 @@ std::vector<Eigen::Vector2f> ParticleSlam::InsideRecentHorizons(
   std::vector<Eigen::Vector2f> inside;
   inside.reserve(returns.size());
   for (const Eigen::Vector2f& point : returns) {
-    const Eigen::Vector2d in_map = predicted * Eigen::Vector2d(point.cast<double>());
+    const Eigen::Vector2d in_map = pose * Eigen::Vector2d(point.cast<double>());
     for (const auto& [sensor, reach2] : views) {
       if ((in_map - sensor).squaredNorm() < reach2) {
         inside.push_back(point);
@@ -118,13 +130,18 @@ bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
     return false;
   }
   last_time_ = scan.timestamp;
+  if (!tracker_.AddScan(scan, error)) return false;
+  const Rigid2d tracker_pose = tracker_.CurrentPose();
   const std::optional<Rigid2d> odometry = odometry_.PoseAt(scan.timestamp);
   Rigid2d odometry_delta;
   if (odometry && last_odometry_) odometry_delta = last_odometry_->inverse() * *odometry;
   if (odometry) last_odometry_ = odometry;
 
-  const Rigid2d predicted = current_pose_ * odometry_delta;
-  PreparedScan prepared = Prepare(scan, predicted);
+  // The tracker's motion since the latest keyframe, from that keyframe's pose.
+  if (filter_.initialized()) {
+    current_pose_ = keyframe_poses_.back() * (tracker_at_keyframe_.inverse() * tracker_pose);
+  }
+  PreparedScan prepared = Prepare(scan, current_pose_);
   const ParticleScan& filter_scan = prepared.filter;
   if (!filter_.initialized()) {
     if (filter_scan.weight_points.empty()) {
@@ -134,18 +151,9 @@ bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
       return true;
     }
     filter_.Initialize(current_pose_, filter_scan);
-    AddKeyframe(prepared.limited, std::move(prepared.tracker_map));
+    AddKeyframe(prepared.limited, tracker_pose);
   } else {
     odometry_since_update_ = odometry_since_update_ * odometry_delta;
-    std::optional<Rigid2d> tracked =
-        tracker_.Track(prepared.tracker_match, predicted, filter_scan.normal_scatter);
-    if (!tracked) {
-      const ParticleMatch match = MatchAgainstTiles(filter_scan.match_points, filter_.best().map,
-                                                    predicted, options_.tracking);
-      if (match.good) tracked = match.pose;
-    }
-    current_pose_ = tracked ? *tracked : predicted;
-    ++(tracked ? tracked_ : tracking_failures_);
     const Rigid2d tracked_motion = keyframe_poses_.back().inverse() * current_pose_;
     const Rigid2d motion = options_.scan_matched_motion ? tracked_motion : odometry_since_update_;
     if (!filter_scan.weight_points.empty() &&
@@ -153,23 +161,23 @@ bool ParticleSlam::AddScan(const LaserScan& scan, std::string* error) {
          std::abs(motion.rotation()) >= options_.update_rotation)) {
       filter_.Update(motion, tracked_motion, filter_scan);
       odometry_since_update_ = Rigid2d();
-      AddKeyframe(prepared.limited, std::move(prepared.tracker_map));
+      AddKeyframe(prepared.limited, tracker_pose);
     }
   }
   anchors_.push_back({keyframe_poses_.size() - 1, keyframe_poses_.back().inverse() * current_pose_});
   if (loop_closure_) {
     loop_closure_->AddScan(scan.timestamp, anchors_.back().keyframe, anchors_.back().offset,
-                           prepared.tracker_match);
+                           std::move(prepared.node_points));
   }
   trajectory_.push_back({scan.timestamp, current_pose_});
   trajectory_.back().pose = ReportedPose(trajectory_.size() - 1);
   return true;
 }
 
-void ParticleSlam::AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points) {
+void ParticleSlam::AddKeyframe(const LaserScan& limited, const Rigid2d& tracker_pose) {
   keyframe_views_.push_back({limited.sensor_in_robot.translation(), Horizon(limited, options_.max_range)});
   submaps_.AddKeyframe(limited);
-  tracker_.AddKeyframe(std::move(tracker_points));
+  tracker_at_keyframe_ = tracker_pose;
   RefreshBestHistory();
   current_pose_ = keyframe_poses_.back();
 }
@@ -188,7 +196,6 @@ void ParticleSlam::RefreshBestHistory() {
     }
   }
   keyframe_poses_ = std::move(history);
-  tracker_.Rebuild(keyframe_poses_);
   if (loop_closure_) {
     SettleAndCorrect(changed);
     return;
@@ -267,11 +274,12 @@ std::string ParticleSlam::Statistics() const {
   std::ostringstream out;
   out << options_.name << ": " << trajectory_.size() << " scans, " << keyframe_poses_.size() << " keyframes, "
       << filter_.particles().size() << " particles, " << filter_.resamplings() << " resamplings, "
-      << filter_.proposal_fallbacks() << " proposal fallbacks to the motion model, " << tracking_failures_
-      << " scans carried by odometry, " << revision_ << " trajectory revisions; map tiles "
+      << filter_.proposal_fallbacks() << " proposal fallbacks to the motion model, " << revision_
+      << " trajectory revisions; map tiles "
       << filter_.UniqueTileBytes() / (1024 * 1024) << " MiB unique of "
       << filter_.TotalTileBytes() / (1024 * 1024) << " MiB referenced";
   if (loop_closure_) out << "; " << loop_closure_->Statistics();
+  out << "; tracker: " << tracker_.Statistics();
   return out.str();
 }
 

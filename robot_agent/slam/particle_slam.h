@@ -13,7 +13,7 @@
 #include "robot_agent/slam/particle_filter.h"
 #include "robot_agent/slam/particle_loop_closure.h"
 #include "robot_agent/slam/particle_submaps.h"
-#include "robot_agent/slam/particle_tracker.h"
+#include "robot_agent/slam/scan_matching_slam.h"
 #include "robot_agent/slam/thread_pool.h"
 
 namespace fleetmap {
@@ -26,11 +26,12 @@ struct ParticleSlamOptions {
   float max_range = 20.0f;
   // The laser-horizon trap: the map's walls end where earlier scans' horizons (min(range_max,
   // max_range)) cut them, so a new scan's returns past those ends would pull every match back
-  // towards the previous pose. Returns are matched (tracker and improved proposal) only when
-  // they lie within horizon - match_range_margin of the sensor at one of the latest keyframes
-  // (tracker.keyframes of them), at the predicted pose; all returns are mapped and weighted.
-  // The margin covers the matchers' reach (MatchGrid max_distance, the proposal's 20 cm search).
+  // towards the previous pose. Returns are matched by the improved proposal only when they lie
+  // within horizon - match_range_margin of the sensor at one of the latest horizon_keyframes
+  // keyframes, at the tracked pose; all returns are mapped and weighted. The margin covers the
+  // proposal's reach (its 20 cm search). The tracker keeps its own margin (tracker options).
   float match_range_margin = 0.3f;
+  int horizon_keyframes = 10;
   // Matching and weighting use one point per voxel of this size (metres).
   float match_voxel = 0.1f;
   // A filter update (keyframe) runs when the robot moved this far (metres / radians).
@@ -39,12 +40,16 @@ struct ParticleSlamOptions {
   // Motion input to the filter: raw odometry (false) or the per-scan scan-matched motion
   // (true: the paper's remedy for FastSLAM's particle depletion).
   bool scan_matched_motion = false;
-  // Every scan is matched against the best particle's map from the odometry prediction, so
-  // scans between updates get corrected poses too: first against its latest keyframes
-  // (tracker), then, when that fails, against its whole grid (tracking).
-  ParticleTrackerOptions tracker;
-  float tracker_voxel = 0.05f;
-  ParticleMatcherOptions tracking;
+  // Every scan is tracked by the scan-matching backend's frontend, in its own frame (every scan
+  // against its rolling local map of recent scans: scan-matched odometry). A scan between two
+  // filter updates is placed at the best particle's latest keyframe moved by the tracker's
+  // motion since that keyframe, so every scan gets a pose from scan matching, not odometry.
+  // Before, the tracker matched each scan against the best particle's latest 10 keyframes, a
+  // metre apart: its chain alone read aces 0.040 m and ended the building lap 11 m off, where
+  // the frontend reads 0.037 m and 0.2 m (docs/BENCHMARKS.md, issue 5, session 11).
+  ScanMatchingSlamOptions tracker = DefaultTracker();
+  // The loop-closure layer's node scans keep one return per voxel of this size (metres).
+  float node_voxel = 0.05f;
   // Worker threads for the per-particle work (results do not depend on it).
   int threads = 2;
   int keyframes_per_submap = 10;
@@ -58,6 +63,8 @@ struct ParticleSlamOptions {
   // improved proposal and selective resampling (GMapping-like defaults).
   static ParticleSlamOptions FastSlam();
   static ParticleSlamOptions Rbpf();
+  // The scan-matching backend's options without submaps or loop closure.
+  static ScanMatchingSlamOptions DefaultTracker();
 };
 
 // Local SLAM by a Rao-Blackwellized particle filter: grid FastSLAM or the improved-proposal
@@ -87,15 +94,14 @@ class ParticleSlam : public LocalSlam {
   struct PreparedScan {
     ParticleScan filter;  // match points inside the horizon; rays of every return
     LaserScan limited;    // returns beyond max_range dropped: what the submaps get
-    std::vector<Eigen::Vector2f> tracker_match;  // inside the horizon: matched by the tracker
-    std::vector<Eigen::Vector2f> tracker_map;    // every return: the tracker's target
+    std::vector<Eigen::Vector2f> node_points;  // inside the horizon: the layer's node scan
   };
-  PreparedScan Prepare(const LaserScan& scan, const Rigid2d& predicted) const;
-  // `returns` (robot frame, beam order) that, at `predicted`, lie inside a recent keyframe's
+  PreparedScan Prepare(const LaserScan& scan, const Rigid2d& pose) const;
+  // `returns` (robot frame, beam order) that, at `pose`, lie inside a recent keyframe's
   // horizon less match_range_margin; all of them before the first keyframe.
   std::vector<Eigen::Vector2f> InsideRecentHorizons(const std::vector<Eigen::Vector2f>& returns,
-                                                    const Rigid2d& predicted) const;
-  void AddKeyframe(const LaserScan& limited, std::vector<Eigen::Vector2f> tracker_points);
+                                                    const Rigid2d& pose) const;
+  void AddKeyframe(const LaserScan& limited, const Rigid2d& tracker_pose);
   void RefreshBestHistory();
   void SettleAndCorrect(bool history_changed);
   // The reported pose of scan `i` from its anchor (through the loop-closure layer when on).
@@ -112,7 +118,8 @@ class ParticleSlam : public LocalSlam {
   ParticleFilter filter_;
   OdometryBuffer odometry_;
   ParticleSubmaps submaps_;
-  ParticleTracker tracker_;
+  ScanMatchingSlam tracker_;
+  Rigid2d tracker_at_keyframe_;  // the tracker's pose at the latest keyframe (its own frame)
   std::unique_ptr<ParticleLoopClosure> loop_closure_;  // null when off
   std::set<int64_t> moved_submaps_;  // moved by the pose graph, not handed out again yet
   Trajectory trajectory_;
@@ -128,8 +135,6 @@ class ParticleSlam : public LocalSlam {
   std::optional<Rigid2d> last_odometry_;
   double last_time_ = -1e300;
   int64_t revision_ = 0;
-  int64_t tracked_ = 0;
-  int64_t tracking_failures_ = 0;
 };
 
 }  // namespace fleetmap

@@ -73,6 +73,9 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
 
   if (!points.empty() && ShouldInsert(pose, scan.timestamp)) {
     local_map_.Insert(points, NoReturnEnds(scan), pose);
+    last_inserted_ = StampedPose{scan.timestamp, pose};
+    ++counters_.inserted;
+    if (!options_.build_submaps) return true;
     LaserScan limited = scan;
     for (float& range : limited.ranges) {
       if (range > options_.max_range) range = LaserScan::kNoReturn;
@@ -82,8 +85,6 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
                                            insertion->submap_in_local)) {
       ApplyCorrections();
     }
-    last_inserted_ = StampedPose{scan.timestamp, pose};
-    ++counters_.inserted;
   }
   return true;
 }

@@ -53,6 +53,9 @@ struct ScanMatchingSlamOptions {
   double insert_min_rotation = 0.087;
   double insert_max_interval = 10.0;
   SubmapOptions submaps;
+  // Off, the backend only tracks: every scan is matched against the local map and nothing goes
+  // into submaps or loop closure (the particle backends' per-scan tracker, see ParticleSlam).
+  bool build_submaps = true;
   // Global SLAM on top: loop closures against finished submaps and a pose graph.
   LoopClosureOptions loop_closure;
 
