@@ -251,9 +251,12 @@ std::string ScanMatchingSlam::Statistics() const {
   out << counters_.scans << " scans: " << counters_.matched << " matched, " << counters_.searched
       << " needed a correlative search, " << counters_.failed << " carried by odometry, " << counters_.degenerate << " kept odometry along a corridor, "
       << counters_.no_return_scans << " without returns, " << counters_.inserted
-      << " inserted into the map; loop closure: " << loop_closure_.searches() << " searches, "
-      << loop_closure_.loop_constraints() << " constraints, " << loop_closure_.optimizations()
-      << " optimisations";
+      << " inserted into the map";
+  if (options_.build_submaps && options_.loop_closure.enabled) {
+    out << "; loop closure: " << loop_closure_.searches() << " searches, "
+        << loop_closure_.loop_constraints() << " constraints, " << loop_closure_.optimizations()
+        << " optimisations";
+  }
   return out.str();
 }
 
