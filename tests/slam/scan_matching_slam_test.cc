@@ -1,6 +1,5 @@
 #include "robot_agent/slam/scan_matching_slam.h"
 
-#include <random>
 
 #include <gtest/gtest.h>
 
@@ -18,32 +17,8 @@ constexpr double kDegree = M_PI / 180.0;
 // Ground-truth poses of one lap along the ring's centre line: 0.1 m steps on the straights,
 // 9 degree steps turning on the spot at the corners.
 std::vector<Rigid2d> LapPoses() {
-  const std::vector<Eigen::Vector2d> corners = {{-9.0, -6.5}, {9.0, -6.5}, {9.0, 6.5}, {-9.0, 6.5}, {-9.0, -6.5}};
-  std::vector<Rigid2d> poses;
-  double heading = 0.0;
-  for (size_t c = 0; c + 1 < corners.size(); ++c) {
-    const Eigen::Vector2d a = corners[c], b = corners[c + 1];
-    const int steps = static_cast<int>((b - a).norm() / 0.1);
-    for (int i = 0; i < steps; ++i) poses.emplace_back(a + (b - a) * (static_cast<double>(i) / steps), heading);
-    for (int i = 1; i <= 10; ++i) poses.emplace_back(b, heading + i * 9.0 * kDegree);
-    heading += M_PI / 2;
-  }
-  return poses;
-}
-
-// Odometry with a systematic heading drift (0.5 degree per metre) and random noise.
-std::vector<Rigid2d> NoisyOdometry(const std::vector<Rigid2d>& truth, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  std::vector<Rigid2d> odometry = {truth.front()};
-  for (size_t i = 1; i < truth.size(); ++i) {
-    const Rigid2d step = truth[i - 1].inverse() * truth[i];
-    const double d = step.translation().norm();
-    const Rigid2d noisy(step.x() * (1.0 + 0.03 * noise(rng)), step.y() + 0.01 * d * noise(rng),
-                        step.rotation() + 0.5 * kDegree * d + 0.02 * std::abs(step.rotation()) * noise(rng));
-    odometry.push_back(odometry.back() * noisy);
-  }
-  return odometry;
+  return testing::PathPoses({{-9.0, -6.5}, {9.0, -6.5}, {9.0, 6.5}, {-9.0, 6.5}, {-9.0, -6.5}},
+                            /*turn_after_last=*/true);
 }
 
 LaserScan Scan(const testing::SegmentWorld& world, const Rigid2d& pose, double time) {
@@ -56,7 +31,7 @@ LaserScan Scan(const testing::SegmentWorld& world, const Rigid2d& pose, double t
 TEST(ScanMatchingSlamTest, MapsASimulatedLoopWithBoundedError) {
   const testing::SegmentWorld world = testing::CorridorRing();
   const std::vector<Rigid2d> truth = LapPoses();
-  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 3);
+  const std::vector<Rigid2d> odometry = testing::NoisyOdometry(truth, 3);
   ScanMatchingSlamOptions options;
   options.submaps.max_scans = 50;
   ScanMatchingSlam slam(options);
