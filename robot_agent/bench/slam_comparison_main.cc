@@ -125,8 +125,10 @@ int Run(int argc, char** argv) {
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   app.add_option("--seed", base.seed, "Random seed (particle filter backends)")->capture_default_str();
-  app.add_flag("--scan-matched-motion", base.scan_matched_motion,
-               "Particle filter backends: scan-matched motion instead of raw odometry as the motion input");
+  app.add_option("--motion", base.motion,
+                 "Particle filter backends: motion input, odometry (the paper's pseudo-code) or "
+                 "scan-matched (default)")
+      ->check(CLI::IsMember(ParticleMotionInputs()));
   app.add_option("--particle-loop-closure", base.particle_loop_closure,
                  "Particle filter backends: global loop closure over the best particle (on|off)")
       ->capture_default_str();

@@ -5,6 +5,8 @@
 
 namespace fleetmap {
 
+std::vector<std::string> ParticleMotionInputs() { return {"odometry", "scan-matched"}; }
+
 std::vector<std::string> LocalSlamAlgorithms() { return {"scan-matching", "fastslam", "rbpf"}; }
 
 std::unique_ptr<LocalSlam> MakeLocalSlam(const BackendChoice& choice, std::string* error) {
@@ -19,7 +21,12 @@ std::unique_ptr<LocalSlam> MakeLocalSlam(const BackendChoice& choice, std::strin
     options.robot_id = choice.robot_id;
     options.filter.particles = choice.particles;
     options.filter.seed = choice.seed;
-    options.scan_matched_motion = choice.scan_matched_motion;
+    if (choice.motion == "odometry" || choice.motion == "scan-matched") {
+      options.scan_matched_motion = choice.motion == "scan-matched";
+    } else if (!choice.motion.empty()) {
+      if (error) *error = "unknown motion input '" + choice.motion + "' (known: odometry, scan-matched)";
+      return nullptr;
+    }
     options.loop_closure.enabled = choice.particle_loop_closure;
     return std::make_unique<ParticleSlam>(options);
   }

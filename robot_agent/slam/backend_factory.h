@@ -16,18 +16,23 @@ struct BackendChoice {
   std::string robot_id = "robot";
   int particles = 30;  // particle filters only
   unsigned seed = 1;   // particle filters only
-  // Particle filters only: the per-scan scan-matched motion instead of raw odometry as the
-  // filter's motion input (the paper's remedy for FastSLAM's particle depletion).
-  bool scan_matched_motion = false;
+  // Particle filters only: the filter's motion input, "odometry" (raw) or "scan-matched" (the
+  // per-scan scan-matched motion: the paper's remedy for FastSLAM's particle depletion); empty
+  // keeps the backend's default (ParticleSlamOptions::scan_matched_motion).
+  std::string motion;
   // Particle filters only: global loop closure over the best particle's trajectory
   // (ParticleSlamOptions::loop_closure; on by default, see ParticleLoopClosureOptions).
   bool particle_loop_closure = true;
 };
 
+// The motion inputs BackendChoice::motion accepts.
+std::vector<std::string> ParticleMotionInputs();
+
 // The algorithm names MakeLocalSlam accepts.
 std::vector<std::string> LocalSlamAlgorithms();
 
-// A backend by name; nullptr and a message listing the known names when unknown.
+// A backend by name; nullptr and a message listing the known names when the algorithm or the
+// motion input is unknown.
 std::unique_ptr<LocalSlam> MakeLocalSlam(const BackendChoice& choice, std::string* error);
 
 }  // namespace fleetmap

@@ -42,8 +42,10 @@ int Run(int argc, char** argv) {
   app.add_option("--particles", choice.particles, "Particle count (particle filter backends)")
       ->capture_default_str()->check(CLI::Range(1, 100000));
   app.add_option("--seed", choice.seed, "Random seed (particle filter backends)")->capture_default_str();
-  app.add_flag("--scan-matched-motion", choice.scan_matched_motion,
-               "Particle filter backends: scan-matched motion instead of raw odometry as the motion input");
+  app.add_option("--motion", choice.motion,
+                 "Particle filter backends: motion input, odometry (the paper's pseudo-code) or "
+                 "scan-matched (default)")
+      ->check(CLI::IsMember(ParticleMotionInputs()));
   app.add_option("--particle-loop-closure", choice.particle_loop_closure,
                  "Particle filter backends: global loop closure over the best particle (on|off)")
       ->capture_default_str();

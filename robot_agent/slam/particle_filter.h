@@ -19,20 +19,44 @@ enum class ParticleProposal {
   kImprovedProposal,  // RBPF: sample a Gaussian fitted around the per-particle scan match
 };
 
+// Motion model noise (GMapping's srr, srt, str, stt): translation sigma = srr |dt| + srt |dr|,
+// rotation sigma = str |dt| + stt |dr|, plus a floor.
+struct MotionNoise {
+  double srr = 0.0, srt = 0.0, str = 0.0, stt = 0.0;
+  double min_translation_sigma = 0.0;
+  double min_rotation_sigma = 0.0;
+
+  // GMapping's defaults: wheel odometry over a metre is good to about 10 cm and 6 degrees.
+  static MotionNoise WheelOdometry() { return {0.1, 0.2, 0.1, 0.2, 0.01, 0.005}; }
+  // The scan-matching frontend's motion (ParticleSlamOptions::tracker): 5 mm and 0.06 deg per
+  // metre, 3 mm and 0.06 deg at least. Its measured accuracy is finer still (the simulated
+  // building lap, 427 m, ends 0.14-0.23 m off with 0.07 deg of heading error at worst), but on
+  // intel a 2.5x tighter model read 0.019 m instead of 0.016 m and a 50x tighter one failed
+  // (0.34 m); 2x looser let the building end 0.2-2.4 m off (docs/BENCHMARKS.md, issue 5,
+  // session 12).
+  static MotionNoise ScanMatched() { return {0.005, 0.0, 0.001, 0.0, 0.003, 0.001}; }
+};
+
 struct ParticleFilterOptions {
   int particles = 30;
   unsigned seed = 1;
   ParticleProposal proposal = ParticleProposal::kImprovedProposal;
   // Resample when N_eff < resample_threshold * N. A value above 1 resamples at every update.
   double resample_threshold = 0.5;
-  // Motion model noise (GMapping's srr, srt, str, stt): translation sigma = srr |dt| + srt |dr|,
-  // rotation sigma = str |dt| + stt |dr|, plus a floor.
-  double srr = 0.1, srt = 0.2, str = 0.1, stt = 0.2;
-  double min_translation_sigma = 0.01;
-  double min_rotation_sigma = 0.005;
+  MotionNoise motion_noise = MotionNoise::WheelOdometry();
   // Improved proposal: the Gaussian is fitted over a 3 x 3 x 3 lattice around the match.
   double lattice_step_translation = 0.025;
   double lattice_step_rotation = 0.01;
+  // Where the lattice is centred. Off (GMapping): on the per-particle scan match, the mode of
+  // the observation, which is where the product with a broad odometry prior peaks. On: on the
+  // motion prediction, where the product peaks when the motion model is tighter than the
+  // lattice (scan-matched motion). The match is then only the gate (share of points with a
+  // correspondence at the prediction) and is not run. Why: at true poses on the simulated
+  // building lap, the per-particle match against a particle's map of keyframes a metre apart is
+  // off by +0.06 deg on average (0.13 deg RMS) per keyframe, a bias that its heading chains up
+  // into 20+ m at the lap's end; the scan-matching frontend's motion is not (docs/BENCHMARKS.md,
+  // issue 5, session 12).
+  bool centre_on_prediction = false;
   // Scales the scan log-likelihood in the weights (GMapping's 1 / obsSigmaGain): a scan's ~100
   // points are not independent, and unscaled weights would collapse onto one particle.
   double observation_gain = 1.0 / 3.0;

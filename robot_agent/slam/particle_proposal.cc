@@ -17,7 +17,9 @@ uint64_t SplitMix(uint64_t x) {
   return x ^ (x >> 31);
 }
 
-void MotionSigmas(const Rigid2d& motion, const ParticleFilterOptions& o, double* sigma_t, double* sigma_r) {
+void MotionSigmas(const Rigid2d& motion, const ParticleFilterOptions& options, double* sigma_t,
+                  double* sigma_r) {
+  const MotionNoise& o = options.motion_noise;
   const double dt = motion.translation().norm(), dr = std::abs(motion.rotation());
   *sigma_t = o.srr * dt + o.srt * dr + o.min_translation_sigma;
   *sigma_r = o.str * dt + o.stt * dr + o.min_rotation_sigma;
@@ -70,7 +72,13 @@ ProposalDraw DrawPose(const Rigid2d& pose, const Rigid2d& motion, const Rigid2d&
   ProposalDraw draw;
   if (options.proposal == ParticleProposal::kImprovedProposal) {
     const Rigid2d start = pose * match_motion;
-    ParticleMatch match = MatchAgainstTiles(scan.match_points, map, start, options.matcher);
+    ParticleMatch match;
+    if (options.centre_on_prediction) {
+      match.pose = pose * motion;
+      match.good = GoodMatchAt(scan.match_points, map, match.pose, options.matcher);
+    } else {
+      match = MatchAgainstTiles(scan.match_points, map, start, options.matcher);
+    }
     if (match.good) match.pose = keep_observed(start, match.pose);
     if (match.good) {
       // Lattice around the mode; offsets in the mode's frame keep angles away from the wrap.

@@ -49,17 +49,28 @@ ParticleMatch MatchAgainstTiles(const std::vector<Eigen::Vector2f>& points, cons
       break;
     }
   }
-  // Inliers at the final pose, with the narrow radius.
+  result.pose = pose;
+  result.inlier_fraction = InlierFraction(points, grid, pose, options);
+  result.good = matched >= options.min_points && result.inlier_fraction >= options.min_inlier_fraction;
+  return result;
+}
+
+double InlierFraction(const std::vector<Eigen::Vector2f>& points, const SharedTileGrid& grid,
+                      const Rigid2d& pose, const ParticleMatcherOptions& options) {
+  if (points.empty()) return 0.0;
   int inliers = 0;
   for (const Eigen::Vector2f& p : points) {
     Eigen::Vector2d hit;
     double d2;
     if (grid.NearestHit(pose * Eigen::Vector2d(p.cast<double>()), options.fine_radius, &hit, &d2)) ++inliers;
   }
-  result.pose = pose;
-  result.inlier_fraction = static_cast<double>(inliers) / static_cast<double>(points.size());
-  result.good = matched >= options.min_points && result.inlier_fraction >= options.min_inlier_fraction;
-  return result;
+  return static_cast<double>(inliers) / static_cast<double>(points.size());
+}
+
+bool GoodMatchAt(const std::vector<Eigen::Vector2f>& points, const SharedTileGrid& grid,
+                 const Rigid2d& pose, const ParticleMatcherOptions& options) {
+  return static_cast<int>(points.size()) >= options.min_points &&
+         InlierFraction(points, grid, pose, options) >= options.min_inlier_fraction;
 }
 
 double ScanLogLikelihood(const std::vector<Eigen::Vector2f>& points, const SharedTileGrid& grid,

@@ -39,6 +39,13 @@ struct ParticleMatch {
 ParticleMatch MatchAgainstTiles(const std::vector<Eigen::Vector2f>& points, const SharedTileGrid& grid,
                                 const Rigid2d& initial, const ParticleMatcherOptions& options);
 
+// Share of `points` with a map hit within fine_radius cells at `pose`.
+double InlierFraction(const std::vector<Eigen::Vector2f>& points, const SharedTileGrid& grid,
+                      const Rigid2d& pose, const ParticleMatcherOptions& options);
+// Whether a match at `pose` would pass MatchAgainstTiles' gate (min_points, min_inlier_fraction).
+bool GoodMatchAt(const std::vector<Eigen::Vector2f>& points, const SharedTileGrid& grid,
+                 const Rigid2d& pose, const ParticleMatcherOptions& options);
+
 // Log-likelihood of the points at `pose` in the map (up to a constant).
 double ScanLogLikelihood(const std::vector<Eigen::Vector2f>& points, const SharedTileGrid& grid,
                          const Rigid2d& pose, const ParticleMatcherOptions& options);

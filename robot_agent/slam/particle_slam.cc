@@ -37,13 +37,17 @@ ParticleSlamOptions ParticleSlamOptions::Rbpf() {
   // denser nodes (docs/BENCHMARKS.md, issue 5, session 10).
   options.loop_closure.node_min_translation = 0.2;
   options.loop_closure.node_min_rotation = 0.17;
+  // The lattice on the scan-matched motion's prediction: the per-particle match's bias no
+  // longer chains up (simulated building lap 1.2-10 m -> 0.10-0.25 m over 8 seeds; intel
+  // 0.025 -> 0.016 m, aces 0.040 -> 0.037 m; docs/BENCHMARKS.md, issue 5, session 12).
+  options.filter.centre_on_prediction = true;
   return options;
 }
 
 ParticleSlam::ParticleSlam(const ParticleSlamOptions& options)
     : options_(options),
       pool_(std::make_unique<ThreadPool>(options_.threads)),
-      filter_(options_.filter, pool_.get()),
+      filter_(FilterOptions(options_), pool_.get()),
       submaps_(options.robot_id, options.keyframes_per_submap, [&] {
         OccupancyGridOptions grid = options.submap_grid;
         grid.max_trace_range = options.max_range;
@@ -59,6 +63,15 @@ ParticleSlam::ParticleSlam(const ParticleSlamOptions& options)
     loop_closure_ = std::make_unique<ParticleLoopClosure>(options_.loop_closure,
                                                           options_.keyframes_per_submap);
   }
+}
+
+ParticleFilterOptions ParticleSlam::FilterOptions(const ParticleSlamOptions& options) {
+  ParticleFilterOptions filter = options.filter;
+  filter.motion_noise = options.scan_matched_motion ? options.scan_matched_noise : options.odometry_noise;
+  // Odometry's prediction is centimetres to decimetres off after a metre: the lattice (2.5 cm
+  // steps) must then sit on the match, as in GMapping.
+  filter.centre_on_prediction = options.filter.centre_on_prediction && options.scan_matched_motion;
+  return filter;
 }
 
 bool ParticleSlam::AddOdometry(const StampedPose& odometry, std::string* error) {

@@ -82,6 +82,40 @@ TEST(ParticleFilterTest, ProposalsKeepThePredictionAlongAPlainCorridor) {
   }
 }
 
+// In the room, the robot truly moved to (1, 0.5, 0.1); the motion says (1.12, 0.41, 0.12). With
+// wheel-odometry noise and the lattice on the match (GMapping), the draws land at the true pose:
+// the match finds it and the broad prior does not hold it back. With scan-matched noise and the
+// lattice on the prediction, they stay near the prediction: the scan can pull them at most a
+// lattice step (2.5 cm, 0.01 rad) towards the truth, and the tight prior holds them there.
+TEST(ParticleFilterTest, LatticeOnThePredictionStaysNearItWithATightMotionModel) {
+  ParticleFilterOptions options;
+  SharedTileGrid map(options.grid, 1);
+  const ParticleScan first = ScanAt(Rigid2d());
+  map.InsertRays(Eigen::Vector2d::Zero(), first.ray_ends, first.ray_hits);
+  const Rigid2d truth(1.0, 0.5, 0.1);
+  const Rigid2d motion(1.12, 0.41, 0.12);
+  const ParticleScan second = ScanAt(truth);
+  for (bool on_prediction : {false, true}) {
+    options.centre_on_prediction = on_prediction;
+    options.motion_noise = on_prediction ? MotionNoise::ScanMatched() : MotionNoise::WheelOdometry();
+    for (int i = 0; i < 10; ++i) {
+      std::mt19937_64 rng = ParticleRandomStream(1, 1, static_cast<size_t>(i));
+      const ProposalDraw draw = DrawPose(Rigid2d(), motion, motion, second, map, options, &rng);
+      ASSERT_TRUE(draw.used_scan_match);
+      const Rigid2d from_truth = truth.inverse() * draw.pose;
+      const Rigid2d from_prediction = motion.inverse() * draw.pose;
+      if (on_prediction) {
+        EXPECT_LT(from_prediction.translation().norm(), 0.045) << "draw " << i;
+        EXPECT_LT(std::abs(from_prediction.rotation()), 0.015) << "draw " << i;
+        EXPECT_GT(from_truth.translation().norm(), 0.1) << "draw " << i;
+      } else {
+        EXPECT_LT(from_truth.translation().norm(), 0.03) << "draw " << i;
+        EXPECT_LT(std::abs(from_truth.rotation()), 0.01) << "draw " << i;
+      }
+    }
+  }
+}
+
 TEST(ParticleFilterTest, NoResamplingWhileWeightsAreEven) {
   ParticleFilterOptions options;
   options.particles = 20;
@@ -101,8 +135,8 @@ TEST(ParticleFilterTest, ResamplesWhenWeightsDegenerate) {
   ParticleFilterOptions options;
   options.particles = 20;
   options.proposal = ParticleProposal::kMotionModel;
-  options.srr = 0.5;  // wide motion noise: the scan separates good particles from bad ones
-  options.str = 0.5;
+  options.motion_noise.srr = 0.5;  // wide motion noise: the scan separates good particles from bad ones
+  options.motion_noise.str = 0.5;
   options.observation_gain = 1.0;
   ParticleFilter filter(options, nullptr);
   filter.Initialize(Rigid2d(), ScanAt(Rigid2d()));

@@ -169,7 +169,7 @@ TEST(RbpfSlamTest, FactoryKnowsBothParticleFilters) {
   }
 }
 
-// The tools' --scan-matched-motion reaches the filter: the factory's FastSLAM with it runs the
+// The tools' --motion scan-matched reaches the filter: the factory's FastSLAM with it runs the
 // same as one configured by hand with ParticleSlamOptions::scan_matched_motion.
 TEST(RbpfSlamTest, FactoryPassesTheScanMatchedMotionChoice) {
   const std::vector<Rigid2d> truth = LoopPoses();
@@ -177,7 +177,7 @@ TEST(RbpfSlamTest, FactoryPassesTheScanMatchedMotionChoice) {
   BackendChoice choice;
   choice.algorithm = "fastslam";
   choice.particles = 3;
-  choice.scan_matched_motion = true;
+  choice.motion = "scan-matched";
   std::string error;
   std::unique_ptr<LocalSlam> made = MakeLocalSlam(choice, &error);
   ASSERT_NE(made, nullptr) << error;
@@ -194,6 +194,35 @@ TEST(RbpfSlamTest, FactoryPassesTheScanMatchedMotionChoice) {
   RunLoop(&odometry_driven, truth, odometry);
   EXPECT_THAT(made->CurrentPose(), IsNearPose(by_hand.CurrentPose(), 1e-12, 1e-12));
   EXPECT_FALSE((made->CurrentPose().translation() - odometry_driven.CurrentPose().translation()).norm() < 1e-9);
+}
+
+// The RBPF is driven by the scan-matched motion unless told otherwise; an unknown motion input is
+// an error, not a silent default.
+TEST(RbpfSlamTest, FactoryMotionChoiceOverridesTheBackendsDefault) {
+  const std::vector<Rigid2d> truth = LoopPoses();
+  const std::vector<Rigid2d> odometry = NoisyOdometry(truth, 3);
+  std::string error;
+  BackendChoice choice;
+  choice.algorithm = "rbpf";
+  choice.particles = 3;
+  std::unique_ptr<LocalSlam> by_default = MakeLocalSlam(choice, &error);
+  choice.motion = "odometry";
+  std::unique_ptr<LocalSlam> odometry_driven = MakeLocalSlam(choice, &error);
+  ASSERT_NE(by_default, nullptr) << error;
+  ASSERT_NE(odometry_driven, nullptr) << error;
+  ParticleSlamOptions options = ParticleSlamOptions::Rbpf();
+  options.robot_id = choice.robot_id;
+  options.filter.particles = 3;
+  ParticleSlam by_hand(options);
+  RunLoop(by_default.get(), truth, odometry);
+  RunLoop(odometry_driven.get(), truth, odometry);
+  RunLoop(&by_hand, truth, odometry);
+  EXPECT_THAT(by_default->CurrentPose(), IsNearPose(by_hand.CurrentPose(), 1e-12, 1e-12));
+  EXPECT_FALSE((by_default->CurrentPose().translation() - odometry_driven->CurrentPose().translation())
+                   .norm() < 1e-9);
+  choice.motion = "wheels";
+  EXPECT_EQ(MakeLocalSlam(choice, &error), nullptr);
+  EXPECT_NE(error.find("unknown motion input 'wheels'"), std::string::npos) << error;
 }
 
 // The tools' --particle-loop-closure reaches the backend (its statistics report the layer).
