@@ -40,6 +40,7 @@ struct BenchOptions {
   bool mask_laser_bodies = false;
   LaserBodyOptions laser_bodies;
   uint64_t seed_offset = 0;  // added to the scenario's seed (odometry, laser and route noise)
+  std::string algorithm = "scan-matching";  // every robot's local SLAM backend
 };
 
 std::unique_ptr<sim::Simulation> LoadSimulation(const std::string& path, uint64_t seed_offset,
@@ -66,6 +67,7 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
   for (const auto& info : infos) {
     BackendChoice choice;
     choice.robot_id = info.name;
+    choice.algorithm = options.algorithm;
     slams.push_back(MakeLocalSlam(choice, error));
     if (!slams.back()) return false;
   }
@@ -288,6 +290,10 @@ int main(int argc, char** argv) {
   app.add_option("--odometry-rotation-sigma-per-metre",
                  options.engine.odometry_rotation_sigma_per_metre,
                  "merge engine: rotation sigma (rad) of consecutive-submap edges per metre")
+      ->capture_default_str();
+  app.add_option("--algorithm", options.algorithm,
+                 "every robot's local SLAM backend (the agent's default is scan-matching)")
+      ->check(CLI::IsMember(fleetmap::LocalSlamAlgorithms()))
       ->capture_default_str();
   app.add_option("--seeds", seeds,
                  "runs per scenario, with the scenario's seed, then seed + 1, ... (a summary line "
