@@ -6,6 +6,7 @@
 #
 # Usage: deploy/launch.sh [--scenario NAME|PATH] [--out DIR] [--speed max|realtime|N]
 #                         [--no-camera] [--merge-timeout S] [--keep-running] [--bin BUILD_DIR]
+#                         [--algorithm scan-matching|rbpf|fastslam]  (the agents' local SLAM)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -16,6 +17,7 @@ CAMERA=true
 MERGE_TIMEOUT=120
 KEEP_RUNNING=0
 BIN=${FLEETMAP_BUILD_DIR:-build}
+ALGORITHM=scan-matching
 while [ $# -gt 0 ]; do
   case "$1" in
     --scenario) SCENARIO=$2; shift 2 ;;
@@ -25,7 +27,8 @@ while [ $# -gt 0 ]; do
     --merge-timeout) MERGE_TIMEOUT=$2; shift 2 ;;
     --keep-running) KEEP_RUNNING=1; shift ;;
     --bin) BIN=$2; shift 2 ;;
-    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
+    --algorithm) ALGORITHM=$2; shift 2 ;;
+    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
     *) echo "launch: unknown argument '$1' (see --help)" >&2; exit 64 ;;
   esac
 done
@@ -84,6 +87,8 @@ outbox:
 source:
   simulator: {scenario: $SCENARIO_FILE, robot: $robot, camera: $CAMERA}
   speed: $SPEED
+slam:
+  algorithm: $ALGORITHM
 map:
   subscribe: false
 detection:

@@ -49,14 +49,15 @@ class AgentBinaryTest : public ::testing::Test {
 
   // A configuration for the generated log; `extra` is appended (more sections).
   std::string WriteConfig(int port, const std::string& speed = "max",
-                          const std::string& extra = "") {
+                          const std::string& extra = "",
+                          const std::string& algorithm = "scan-matching") {
     const std::string path = dir_ + "/robot.yaml";
     std::ofstream(path) << "robot: {id: r1, name: e2e robot, start_pose: {x: " << kStartPose.x()
                         << ", y: " << kStartPose.y() << ", theta: " << kStartPose.rotation()
                         << "}}\n"
                         << "server: {address: 127.0.0.1:" << port << "}\n"
                         << "outbox: {path: outbox.db}\n"
-                        << "slam: {algorithm: scan-matching, submap_scans: 40}\n"
+                        << "slam: {algorithm: " << algorithm << ", submap_scans: 40}\n"
                         << "source: {carmen: {log: drive.log}, speed: " << speed << "}\n"
                         << "upload: {backoff: {initial: 0.05, max: 0.3}, drain_timeout: 60, "
                            "flush_timeout: 3}\n"
@@ -72,6 +73,8 @@ class AgentBinaryTest : public ::testing::Test {
     if (stay) args.push_back("--stay");
     return std::make_unique<ChildProcess>(AgentBinary(), args, dir_ + "/" + name + ".out");
   }
+
+  void MapsTheLogAndTheMergedMapMatchesTheTruth(const std::string& algorithm, int min_submaps);
 
   std::string dir_;
   std::string log_;
@@ -145,10 +148,10 @@ MapScore ScoreMap(const QuantizedGrid& grid) {
   return score;
 }
 
-TEST_F(AgentBinaryTest, MapsALogIntoTheServerProcessAndTheMergedMapMatchesTheTruth) {
-  if (!std::filesystem::exists(ServerBinary())) {
-    GTEST_SKIP() << "fleetmap-server not built yet (" << ServerBinary() << ")";
-  }
+// The agent maps the log with `algorithm` into a real server process, and the merged map
+// matches the synthetic room.
+void AgentBinaryTest::MapsTheLogAndTheMergedMapMatchesTheTruth(const std::string& algorithm,
+                                                                int min_submaps) {
   ChildProcess server(
       ServerBinary(),
       {"--db", dir_ + "/server.db", "--listen", "127.0.0.1:0", "--port-file", dir_ + "/port"},
@@ -161,7 +164,7 @@ TEST_F(AgentBinaryTest, MapsALogIntoTheServerProcessAndTheMergedMapMatchesTheTru
   ASSERT_GT(port, 0) << server.Output();
 
   // --stay: the agent keeps following the global map after the log ends, until SIGTERM.
-  auto agent = RunAgent(WriteConfig(port), "agent", /*stay=*/true);
+  auto agent = RunAgent(WriteConfig(port, "max", "", algorithm), "agent", /*stay=*/true);
   for (int i = 0; i < 600; ++i) {
     if (agent->Output().find("staying until") != std::string::npos &&
         std::filesystem::exists(dir_ + "/global.pgm")) {
@@ -188,7 +191,7 @@ TEST_F(AgentBinaryTest, MapsALogIntoTheServerProcessAndTheMergedMapMatchesTheTru
   ASSERT_TRUE(stub->GetRobots(&robots_context, v1::GetRobotsRequest(), &robots).ok());
   ASSERT_EQ(robots.robots_size(), 1);
   EXPECT_EQ(robots.robots(0).robot_id(), "r1");
-  EXPECT_GE(robots.robots(0).submap_count(), 5);  // 300 scans, 40 per submap after filtering
+  EXPECT_GE(robots.robots(0).submap_count(), min_submaps);
   // Trajectory revisions are (backend revision << 32) + pose count: one pose per scan.
   EXPECT_EQ(robots.robots(0).trajectory_revision() & 0xffffffffLL, kScans) << "one pose per scan";
   EXPECT_TRUE(robots.robots(0).placement().placed());
@@ -220,6 +223,21 @@ TEST_F(AgentBinaryTest, MapsALogIntoTheServerProcessAndTheMergedMapMatchesTheTru
   EXPECT_GT(score.occupied_on_walls, 0.9) << score.occupied << " occupied cells";
   server.Signal(SIGTERM);
   EXPECT_EQ(server.Wait(30.0), std::optional<int>(0)) << server.Output();
+}
+
+TEST_F(AgentBinaryTest, MapsALogIntoTheServerProcessAndTheMergedMapMatchesTheTruth) {
+  if (!std::filesystem::exists(ServerBinary())) {
+    GTEST_SKIP() << "fleetmap-server not built yet (" << ServerBinary() << ")";
+  }
+  MapsTheLogAndTheMergedMapMatchesTheTruth("scan-matching", 5);  // 300 scans, 40 per submap
+}
+
+// The same through the RBPF backend (its submaps are groups of 10 keyframes a metre apart).
+TEST_F(AgentBinaryTest, MapsALogWithTheRbpfBackend) {
+  if (!std::filesystem::exists(ServerBinary())) {
+    GTEST_SKIP() << "fleetmap-server not built yet (" << ServerBinary() << ")";
+  }
+  MapsTheLogAndTheMergedMapMatchesTheTruth("rbpf", 1);
 }
 
 TEST_F(AgentBinaryTest, RestartedAgentDuplicatesNothing) {
