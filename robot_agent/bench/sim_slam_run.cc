@@ -9,7 +9,7 @@
 namespace fleetmap {
 
 bool RunSimulatedScenario(const std::string& scenario_path, LocalSlam* slam, SimSlamRun* run,
-                          std::string* error) {
+                          std::string* error, OccupancyGrid* truth_map) {
   std::unique_ptr<sim::Simulation> simulation =
       sim::Simulation::FromFile(scenario_path, error, /*camera_enabled=*/false);
   if (!simulation) return false;
@@ -31,6 +31,7 @@ bool RunSimulatedScenario(const std::string& scenario_path, LocalSlam* slam, Sim
       if (packet.laser) {
         if (!slam->AddScan(packet.laser->scan, error)) return false;
         run->ground_truth.push_back({packet.laser->scan.timestamp, packet.ground_truth});
+        if (truth_map) truth_map->InsertScan(packet.laser->scan, packet.ground_truth);
         if (++run->scans % 100 == 0) take_submaps();
       }
       spent += Clock::now() - start;

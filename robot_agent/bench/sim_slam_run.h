@@ -6,6 +6,7 @@
 #include <string>
 
 #include "robot_agent/slam/local_slam.h"
+#include "shared/core/occupancy_grid.h"
 #include "shared/core/submap.h"
 #include "shared/core/trajectory.h"
 
@@ -20,9 +21,10 @@ struct SimSlamRun {
 };
 
 // Runs the first robot of a simulator scenario (in process, no files, camera off) through
-// `slam`, feeding odometry and scans in time order.
+// `slam`, feeding odometry and scans in time order. With `truth_map`, every scan is also
+// inserted into it at its true pose (world frame): what a perfect SLAM would map.
 bool RunSimulatedScenario(const std::string& scenario_path, LocalSlam* slam, SimSlamRun* run,
-                          std::string* error);
+                          std::string* error, OccupancyGrid* truth_map = nullptr);
 
 }  // namespace fleetmap
 
