@@ -31,10 +31,11 @@ bool RunSimulatedScenario(const std::string& scenario_path, LocalSlam* slam, Sim
       if (packet.laser) {
         if (!slam->AddScan(packet.laser->scan, error)) return false;
         run->ground_truth.push_back({packet.laser->scan.timestamp, packet.ground_truth});
-        if (truth_map) truth_map->InsertScan(packet.laser->scan, packet.ground_truth);
         if (++run->scans % 100 == 0) take_submaps();
       }
       spent += Clock::now() - start;
+      // Outside the timed part: the backend's time is what the table reports.
+      if (truth_map && packet.laser) truth_map->InsertScan(packet.laser->scan, packet.ground_truth);
     }
   }
   const Clock::time_point start = Clock::now();
