@@ -17,6 +17,7 @@
 
 #include "robot_agent/slam/local_match_map.h"
 #include "robot_agent/slam/log_runner.h"
+#include "robot_agent/slam/particle_filter.h"
 #include "robot_agent/slam/particle_scan_matcher.h"
 #include "robot_agent/slam/scan_matching_slam.h"
 #include "robot_agent/slam/shared_grid_tiles.h"
@@ -65,19 +66,14 @@ double LikelihoodPeakHeading(const std::vector<Eigen::Vector2f>& points, const S
   return peak;
 }
 
+// The particle filter's insertion of a keyframe (ParticleFilter::InsertScan), at `pose`.
 void InsertAt(const LaserScan& scan, const Rigid2d& pose, float max_range, SharedTileGrid* map) {
+  ParticleScan rays;
+  SetRays(scan, max_range, &rays);
   std::vector<Eigen::Vector2d> ends;
-  std::vector<uint8_t> hits;
-  for (int i = 0; i < scan.size(); ++i) {
-    const float range = scan.ranges[static_cast<size_t>(i)];
-    if (!std::isfinite(range) || range <= 0.0f) continue;
-    const bool hit = range <= max_range;
-    const double r = hit ? range : max_range;
-    const double angle = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
-    ends.push_back(pose * (scan.sensor_in_robot * Eigen::Vector2d(r * std::cos(angle), r * std::sin(angle))));
-    hits.push_back(hit ? 1 : 0);
-  }
-  map->InsertRays(pose * scan.sensor_in_robot.translation(), ends, hits);
+  ends.reserve(rays.ray_ends.size());
+  for (const Eigen::Vector2d& end : rays.ray_ends) ends.push_back(pose * end);
+  map->InsertRays(pose * rays.sensor_origin, ends, rays.ray_hits);
 }
 
 // The pose of the latest truth sample at or before `timestamp` (advancing `next`).
@@ -124,19 +120,6 @@ int RunParticle(const Settings& settings, const SlamLog& log, const Trajectory& 
   return 0;
 }
 
-// Where the beams that saw nothing within the horizon end (ScanMatchingSlam::NoReturnEnds).
-std::vector<Eigen::Vector2f> NoReturnEnds(const LaserScan& scan, float max_range) {
-  const float horizon = Horizon(scan, max_range);
-  std::vector<Eigen::Vector2f> ends;
-  for (int i = 0; i < scan.size(); ++i) {
-    if ((scan.IsReturn(i) && scan.ranges[static_cast<size_t>(i)] <= horizon) || scan.IsMasked(i)) continue;
-    const double angle = static_cast<double>(scan.angle(i));
-    ends.push_back((scan.sensor_in_robot * Eigen::Vector2d(horizon * std::cos(angle), horizon * std::sin(angle)))
-                       .cast<float>());
-  }
-  return ends;
-}
-
 int RunFrontend(const Settings& settings, const SlamLog& log, const Trajectory& truth) {
   ScanMatchingSlamOptions options;
   options.max_range = settings.max_range;
@@ -149,12 +132,8 @@ int RunFrontend(const Settings& settings, const SlamLog& log, const Trajectory& 
   for (const LaserScan& scan : log.scans) {
     const Rigid2d pose = TruthAt(truth, scan.timestamp, &t);
     if (last_inserted) {
-      LaserScan inside = scan;
-      const float limit = Horizon(scan, options.max_range) - options.match_range_margin;
-      for (float& range : inside.ranges) {
-        if (!(range < limit)) range = LaserScan::kNoReturn;
-      }
-      const std::vector<Eigen::Vector2f> points = VoxelFilter(ToPointsInRobotFrame(inside), options.voxel_size);
+      const std::vector<Eigen::Vector2f> points = VoxelFilter(
+          ReturnsInsideHorizon(scan, options.max_range, options.match_range_margin), options.voxel_size);
       const std::optional<ScanMatchResult> match = MatchScan(points, map.target(), nullptr, pose, pose, matcher);
       if (match) {
         const double error = (pose.inverse() * match->pose).rotation();
@@ -212,7 +191,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.01, 100.0));
   app.add_option("--max-range", settings.max_range, "Returns farther than this are not used, metres")
       ->capture_default_str()->check(CLI::Range(0.5f, 100.0f));
-  app.add_flag("--verbose", settings.verbose, "One line per keyframe");
+  app.add_flag("--verbose", settings.verbose, "One line per matched scan");
   CLI11_PARSE(app, argc, argv);
   return fleetmap::Run(settings);
 }

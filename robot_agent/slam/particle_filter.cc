@@ -21,6 +21,21 @@ ParticleFilter::~ParticleFilter() {
   }
 }
 
+void SetRays(const LaserScan& scan, float max_range, ParticleScan* out) {
+  out->sensor_origin = scan.sensor_in_robot.translation();
+  out->ray_ends.clear();
+  out->ray_hits.clear();
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    const float range = scan.ranges[i];
+    if (!std::isfinite(range) || range <= 0.0f) continue;
+    const bool hit = range <= max_range;
+    const double r = hit ? range : max_range;
+    const double angle = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
+    out->ray_ends.push_back(scan.sensor_in_robot * Eigen::Vector2d(r * std::cos(angle), r * std::sin(angle)));
+    out->ray_hits.push_back(hit ? 1 : 0);
+  }
+}
+
 void ParticleFilter::InsertScan(Particle* particle, const ParticleScan& scan) const {
   std::vector<Eigen::Vector2d> ends;
   ends.reserve(scan.ray_ends.size());

@@ -10,6 +10,7 @@
 #include "robot_agent/slam/particle_scan_matcher.h"
 #include "robot_agent/slam/shared_grid_tiles.h"
 #include "robot_agent/slam/thread_pool.h"
+#include "shared/core/laser_scan.h"
 #include "shared/core/rigid2d.h"
 
 namespace fleetmap {
@@ -83,6 +84,11 @@ struct ParticleScan {
   std::vector<Eigen::Vector2d> ray_ends;
   std::vector<uint8_t> ray_hits;
 };
+
+// Fills `out`'s rays (robot frame) from every beam with a positive finite range: to its return,
+// or, past `max_range`, to max_range without a hit (it clears space but marks no wall). Beams
+// without a return (glass, dropouts) are left out.
+void SetRays(const LaserScan& scan, float max_range, ParticleScan* out);
 
 // A particle's keyframe poses as a shared linked list: particles that descend from the same
 // ancestor share the common part of their trajectories.

@@ -96,18 +96,7 @@ ParticleSlam::PreparedScan ParticleSlam::Prepare(const LaserScan& scan,
   out.normal_scatter = NormalScatter(matched);
   out.weight_points = VoxelFilter(returns, options_.match_voxel);
   prepared.node_points = VoxelFilter(matched, options_.node_voxel);
-  out.sensor_origin = scan.sensor_in_robot.translation();
-  // Long beams clear space up to max_range without marking a hit; no-return beams are skipped
-  // (glass and dropouts).
-  for (size_t i = 0; i < scan.ranges.size(); ++i) {
-    const float range = scan.ranges[i];
-    if (!std::isfinite(range) || range <= 0.0f) continue;
-    const bool hit = range <= options_.max_range;
-    const double r = hit ? range : options_.max_range;
-    const double angle = scan.angle_min + static_cast<double>(i) * scan.angle_increment;
-    out.ray_ends.push_back(scan.sensor_in_robot * Eigen::Vector2d(r * std::cos(angle), r * std::sin(angle)));
-    out.ray_hits.push_back(hit ? 1 : 0);
-  }
+  SetRays(scan, options_.max_range, &out);
   return prepared;
 }
 

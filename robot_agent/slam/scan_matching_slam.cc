@@ -64,7 +64,8 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
   std::vector<Eigen::Vector2f> points = RangeFilter(ToPointsInRobotFrame(scan), options_.max_range);
   if (points.empty()) ++counters_.no_return_scans;
   Rigid2d pose = predicted;
-  const std::vector<Eigen::Vector2f> matched = PointsInsideHorizon(scan);
+  const std::vector<Eigen::Vector2f> matched =
+      ReturnsInsideHorizon(scan, options_.max_range, options_.match_range_margin);
   const std::vector<Eigen::Vector2f> filtered = VoxelFilter(matched, options_.voxel_size);
   if (!filtered.empty() && !local_map_.target().empty()) pose = Match(filtered, predicted, matched);
   current_pose_ = pose;
@@ -72,7 +73,11 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
   trajectory_.push_back({scan.timestamp, loop_closure_.CorrectionAt(scan.timestamp) * pose});
 
   if (!points.empty() && ShouldInsert(pose, scan.timestamp)) {
-    local_map_.Insert(points, NoReturnEnds(scan), pose);
+    // Unlike the occupancy grids (where glass and dropouts make beams without a return
+    // unreliable), the local map counts the space those crossed as seen: it only uses that to
+    // recognise moved objects, and a cell needs its 8 neighbours crossed too, which one stray
+    // beam through a wall cannot do.
+    local_map_.Insert(points, NoReturnEnds(scan, options_.max_range), pose);
     last_inserted_ = StampedPose{scan.timestamp, pose};
     ++counters_.inserted;
     if (!options_.build_submaps) return true;
@@ -87,27 +92,6 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
     }
   }
   return true;
-}
-
-std::vector<Eigen::Vector2f> ScanMatchingSlam::NoReturnEnds(const LaserScan& scan) const {
-  const float horizon = Horizon(scan, options_.max_range);
-  std::vector<Eigen::Vector2f> ends;
-  for (int i = 0; i < scan.size(); ++i) {
-    if ((scan.IsReturn(i) && scan.ranges[static_cast<size_t>(i)] <= horizon) || scan.IsMasked(i)) continue;
-    const double angle = static_cast<double>(scan.angle(i));
-    ends.push_back((scan.sensor_in_robot * Eigen::Vector2d(horizon * std::cos(angle), horizon * std::sin(angle))).cast<float>());
-  }
-  return ends;
-}
-
-std::vector<Eigen::Vector2f> ScanMatchingSlam::PointsInsideHorizon(const LaserScan& scan) const {
-  const float horizon = Horizon(scan, options_.max_range);
-  LaserScan inside = scan;
-  const float limit = horizon - options_.match_range_margin;
-  for (float& range : inside.ranges) {
-    if (!(range < limit)) range = LaserScan::kNoReturn;
-  }
-  return ToPointsInRobotFrame(inside);
 }
 
 Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& points,

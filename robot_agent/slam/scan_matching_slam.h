@@ -96,13 +96,6 @@ class ScanMatchingSlam : public LocalSlam {
  private:
   Rigid2d Match(const std::vector<Eigen::Vector2f>& points, const Rigid2d& predicted,
                 const std::vector<Eigen::Vector2f>& beam_points);
-  // The scan's returns in the robot frame, less those within match_range_margin of its horizon.
-  std::vector<Eigen::Vector2f> PointsInsideHorizon(const LaserScan& scan) const;
-  // Robot-frame ends, at the horizon, of the beams that saw nothing within it. Unlike the
-  // occupancy grids (where glass and dropouts make such beams unreliable), the local map counts
-  // the space they crossed as seen: it only uses that to recognise moved objects, and a cell
-  // needs its 8 neighbours crossed too, which one stray beam through a wall cannot do.
-  std::vector<Eigen::Vector2f> NoReturnEnds(const LaserScan& scan) const;
   bool ShouldInsert(const Rigid2d& pose, double timestamp) const;
   // After a graph optimisation: re-derives every scan's corrected pose.
   void ApplyCorrections();

@@ -55,6 +55,27 @@ std::vector<Eigen::Vector2f> ToPointsInRobotFrame(const LaserScan& scan) {
   return points;
 }
 
+std::vector<Eigen::Vector2f> ReturnsInsideHorizon(const LaserScan& scan, float max_range, float margin) {
+  LaserScan inside = scan;
+  const float limit = Horizon(scan, max_range) - margin;
+  for (float& range : inside.ranges) {
+    if (!(range < limit)) range = LaserScan::kNoReturn;
+  }
+  return ToPointsInRobotFrame(inside);
+}
+
+std::vector<Eigen::Vector2f> NoReturnEnds(const LaserScan& scan, float max_range) {
+  const float horizon = Horizon(scan, max_range);
+  std::vector<Eigen::Vector2f> ends;
+  for (int i = 0; i < scan.size(); ++i) {
+    if ((scan.IsReturn(i) && scan.ranges[static_cast<size_t>(i)] <= horizon) || scan.IsMasked(i)) continue;
+    const double angle = static_cast<double>(scan.angle(i));
+    ends.push_back((scan.sensor_in_robot * Eigen::Vector2d(horizon * std::cos(angle), horizon * std::sin(angle)))
+                       .cast<float>());
+  }
+  return ends;
+}
+
 float Horizon(const LaserScan& scan, float max_range) {
   return scan.range_max > 0.0f ? std::min(max_range, scan.range_max) : max_range;
 }

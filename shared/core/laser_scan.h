@@ -50,6 +50,11 @@ float Horizon(const LaserScan& scan, float max_range);
 std::vector<Eigen::Vector2f> ToPointsInSensorFrame(const LaserScan& scan);
 // End points of the real returns, in the robot frame (applies `scan.sensor_in_robot`).
 std::vector<Eigen::Vector2f> ToPointsInRobotFrame(const LaserScan& scan);
+// ToPointsInRobotFrame of the returns closer than Horizon(scan, max_range) - margin.
+std::vector<Eigen::Vector2f> ReturnsInsideHorizon(const LaserScan& scan, float max_range, float margin);
+// Where the beams that saw nothing within Horizon(scan, max_range) end, at that horizon (robot
+// frame; masked beams left out): the space they crossed counts as seen.
+std::vector<Eigen::Vector2f> NoReturnEnds(const LaserScan& scan, float max_range);
 
 }  // namespace fleetmap
 

@@ -49,6 +49,25 @@ TEST(LaserScanTest, HorizonIsTheNearerOfTheSensorsLimitAndTheCap) {
   EXPECT_FLOAT_EQ(Horizon(scan, 20.0f), 20.0f);
 }
 
+// Beams at 0, 90, 180 degrees; the sensor sees 10 m, the user caps at 6 m.
+TEST(LaserScanTest, ReturnsInsideTheHorizonAndEndsOfBeamsThatSawNothing) {
+  const LaserScan scan = MakeLaserScan(0.0, 0.0f, static_cast<float>(M_PI / 2), 0.0f, 10.0f,
+                                       {2.0f, 5.5f, NAN});
+  // Horizon 6 m, margin 1 m: only the 2 m return is matched.
+  const auto inside = ReturnsInsideHorizon(scan, 6.0f, 1.0f);
+  ASSERT_EQ(inside.size(), 1u);
+  EXPECT_NEAR(inside[0].x(), 2.0f, 1e-6f);
+  // The NaN beam saw nothing: it ends at the 6 m horizon, straight behind. Both returns lie
+  // within the horizon, so they end nowhere.
+  const auto ends = NoReturnEnds(scan, 6.0f);
+  ASSERT_EQ(ends.size(), 1u);
+  EXPECT_NEAR(ends[0].x(), -6.0f, 1e-5f);
+  EXPECT_NEAR(ends[0].y(), 0.0f, 1e-5f);
+  // Capped at 4 m, the 5.5 m return lies past the horizon: it counts as having seen nothing
+  // there too.
+  EXPECT_EQ(NoReturnEnds(scan, 4.0f).size(), 2u);
+}
+
 TEST(LaserScanTest, SimulatedScanHitsBoxWalls) {
   const auto world = testing::BoxWorld({-2.0, -1.0}, {3.0, 1.0});
   const LaserScan scan = testing::SimulateScan(world, Rigid2d(0, 0, 0));
