@@ -147,7 +147,7 @@ int RunFrontend(const Settings& settings, const SlamLog& log, const Trajectory& 
     const Rigid2d moved = last_inserted ? last_inserted->inverse() * pose : Rigid2d();
     if (!last_inserted || moved.translation().norm() >= options.insert_min_translation ||
         std::abs(moved.rotation()) >= options.insert_min_rotation) {
-      map.Insert(RangeFilter(ToPointsInRobotFrame(scan), options.max_range), NoReturnEnds(scan, options.max_range),
+      map.Insert(RangeFilter(ToPointsInRobotFrame(scan), options.max_range), {}, NoReturnEnds(scan, options.max_range),
                  pose);
       last_inserted = pose;
     }

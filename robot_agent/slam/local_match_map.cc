@@ -3,6 +3,12 @@
 #include <algorithm>
 
 namespace fleetmap {
+namespace {
+
+// How far short of a held-back return (metres, two cells) its beam marks space as seen.
+constexpr float kHeldBackShortfall = 0.1f;
+
+}  // namespace
 
 MatchGridOptions LocalMatchMapOptions::DefaultGrid() {
   MatchGridOptions options;
@@ -12,12 +18,25 @@ MatchGridOptions LocalMatchMapOptions::DefaultGrid() {
   return options;
 }
 
-LocalMatchMap::LocalMatchMap(const LocalMatchMapOptions& options) : options_(options) {
+LocalMatchMap::LocalMatchMap(const LocalMatchMapOptions& options)
+    : options_(options), persistence_(options.persistence) {
   options_.scans_per_grid = std::max(1, options_.scans_per_grid);
   grids_.push_back({std::make_unique<MatchGrid>(options_.grid), 0});
 }
 
+std::vector<bool> LocalMatchMap::Track(const std::vector<Eigen::Vector2f>& points_in_robot,
+                                       const Rigid2d& robot_in_local) {
+  std::vector<Eigen::Vector2d> in_local;
+  in_local.reserve(points_in_robot.size());
+  for (const Eigen::Vector2f& p : points_in_robot) in_local.push_back(robot_in_local * Eigen::Vector2d(p.cast<double>()));
+  std::vector<bool> mappable = persistence_.Observe(in_local, robot_in_local.translation());
+  const std::vector<bool> small = SmallForegroundObjects(points_in_robot, options_.small_objects);
+  for (size_t i = 0; i < mappable.size(); ++i) mappable[i] = mappable[i] || !small[i];
+  return mappable;
+}
+
 void LocalMatchMap::Insert(const std::vector<Eigen::Vector2f>& points_in_robot,
+                           const std::vector<bool>& mappable,
                            const std::vector<Eigen::Vector2f>& free_ends_in_robot,
                            const Rigid2d& robot_in_local) {
   if (grids_.back().scans >= options_.scans_per_grid) {
@@ -27,15 +46,24 @@ void LocalMatchMap::Insert(const std::vector<Eigen::Vector2f>& points_in_robot,
   // nothing yet) does not map the moving object either.
   std::vector<Eigen::Vector2f> kept;
   kept.reserve(points_in_robot.size());
+  std::vector<Eigen::Vector2f> seen = free_ends_in_robot;
   const MatchGrid& fullest = *grids_.front().grid;
-  for (const Eigen::Vector2f& p : points_in_robot) {
+  for (size_t i = 0; i < points_in_robot.size(); ++i) {
+    if (i < mappable.size() && !mappable[i]) {
+      // Held back, but the space in front of it was seen: an oncoming robot then steps into
+      // space the map knows is free (see moved_object_clearance). A cell short of the return,
+      // so that a pillar held back for a moment is not then taken for a moving object itself.
+      const float range = points_in_robot[i].norm();
+      if (range > kHeldBackShortfall) seen.push_back(points_in_robot[i] * ((range - kHeldBackShortfall) / range));
+      continue;
+    }
     if (options_.moved_object_clearance <= 0.0 ||
-        !fullest.SeenFree(robot_in_local * Eigen::Vector2d(p.cast<double>()), options_.moved_object_clearance)) {
-      kept.push_back(p);
+        !fullest.SeenFree(robot_in_local * Eigen::Vector2d(points_in_robot[i].cast<double>()), options_.moved_object_clearance)) {
+      kept.push_back(points_in_robot[i]);
     }
   }
   for (Entry& entry : grids_) {
-    entry.grid->AddPoints(kept, free_ends_in_robot, robot_in_local);
+    entry.grid->AddPoints(kept, seen, robot_in_local);
     ++entry.scans;
   }
   if (grids_.size() > 1 && grids_.front().scans >= 2 * options_.scans_per_grid) {

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include "robot_agent/slam/return_persistence.h"
+#include "robot_agent/slam/small_foreground_objects.h"
 #include "shared/core/rigid2d.h"
 #include "shared/matching/match_grid.h"
 
@@ -25,6 +27,14 @@ struct LocalMatchMapOptions {
   // cell plus the range noise; 0.08 was the best of 0.05 / 0.08 / 0.15 on the simulator's
   // department and rectangle scenarios. 0 keeps every return.
   double moved_object_clearance = 0.08;
+  // Returns off small objects in front of their surroundings (SmallForegroundObjects) enter the
+  // map only once they persist (ReturnPersistence): off the back of a robot driving ahead the
+  // same way they never do. Held back, their beams still mark the space in front of them as
+  // seen. Walls go in at once: far down a wall seen at a shallow angle the returns are too sparse
+  // for the test, and holding every return back turned the department's robots' headings 2-4
+  // times as much (docs/BENCHMARKS.md, issue 8, session 13).
+  SmallForegroundObjectOptions small_objects;
+  ReturnPersistenceOptions persistence;
   // Each of the two overlapping grids holds up to 2 * scans_per_grid scans; a new grid starts
   // every scans_per_grid scans, so the target always holds between scans_per_grid and
   // 2 * scans_per_grid recent scans.
@@ -41,10 +51,14 @@ class LocalMatchMap {
  public:
   explicit LocalMatchMap(const LocalMatchMapOptions& options);
 
-  // Adds a scan's points (robot frame) taken at `robot_in_local`.
-  // `free_ends_in_robot`: where the beams that saw nothing end (the range limit), so that the
-  // space they crossed counts as seen.
-  void Insert(const std::vector<Eigen::Vector2f>& points_in_robot,
+  // Follows every scan's returns (robot frame, beam order) taken at `robot_in_local`, and says
+  // which of them may go into the map (see small_objects). Call it for every scan, inserted or
+  // not: it judges each scan against the one before.
+  std::vector<bool> Track(const std::vector<Eigen::Vector2f>& points_in_robot, const Rigid2d& robot_in_local);
+  // Adds a scan's points (robot frame) taken at `robot_in_local`, those `mappable` says (what
+  // Track said of them; empty: all). `free_ends_in_robot`: where the beams that saw nothing end
+  // (the range limit), so that the space they crossed counts as seen.
+  void Insert(const std::vector<Eigen::Vector2f>& points_in_robot, const std::vector<bool>& mappable,
               const std::vector<Eigen::Vector2f>& free_ends_in_robot, const Rigid2d& robot_in_local);
   // The grid to match against; empty before the first insertion.
   const MatchGrid& target() const { return *grids_.front().grid; }
@@ -57,6 +71,7 @@ class LocalMatchMap {
   };
   LocalMatchMapOptions options_;
   std::vector<Entry> grids_;  // oldest first; never empty
+  ReturnPersistence persistence_;
   int inserted_ = 0;
 };
 

@@ -71,13 +71,14 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
   current_pose_ = pose;
   local_poses_.push_back(pose);
   trajectory_.push_back({scan.timestamp, loop_closure_.CorrectionAt(scan.timestamp) * pose});
+  const std::vector<bool> mappable = local_map_.Track(points, pose);
 
   if (!points.empty() && ShouldInsert(pose, scan.timestamp)) {
     // Unlike the occupancy grids (where glass and dropouts make beams without a return
     // unreliable), the local map counts the space those crossed as seen: it only uses that to
     // recognise moved objects, and a cell needs its 8 neighbours crossed too, which one stray
     // beam through a wall cannot do.
-    local_map_.Insert(points, NoReturnEnds(scan, options_.max_range), pose);
+    local_map_.Insert(points, mappable, NoReturnEnds(scan, options_.max_range), pose);
     last_inserted_ = StampedPose{scan.timestamp, pose};
     ++counters_.inserted;
     if (!options_.build_submaps) return true;

@@ -1,4 +1,5 @@
-// Local SLAM on the simulator's long lap, in process: no wrong loop closure at the lap's end.
+// Local SLAM on whole simulator scenarios, in process: no wrong loop closure at the building
+// lap's end; another robot driving ahead does not hold the follower back.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -35,6 +36,21 @@ TEST(SimulatedLapTest, ScanMatchingClosesTheBuildingLap) {
   ASSERT_TRUE(RunSimulatedScenario(Scenario("building_1lap"), &slam, &run, &error)) << error;
   ASSERT_GT(run.estimate.size(), 5000u);
   EXPECT_LT(EndPointError(run), 1.0) << slam.Statistics();
+}
+
+// The merge end-to-end test's short scenario: robot1 drives 35 s with robot3 3 m ahead going the
+// same way. The other robot's back, mapped at every insertion, left a trail whose front end held
+// robot1 back: its local SLAM ended 1.9-2.2 m short (4 seeds). Returns off small objects that did
+// not stay put since the last scan stay out of the local map now: 0.005-0.21 m on those seeds.
+TEST(SimulatedLapTest, ARobotDrivingAheadDoesNotHoldTheFollowerBack) {
+  ScanMatchingSlam slam;
+  SimSlamRun run;
+  std::string error;
+  ASSERT_TRUE(RunSimulatedScenario(testing::SourceDir() + "/tests/merge_e2e/east_end_3robots.yaml", &slam,
+                                   &run, &error))
+      << error;
+  ASSERT_GT(run.estimate.size(), 300u);
+  EXPECT_LT(EndPointError(run), 0.5) << slam.Statistics();
 }
 
 }  // namespace

@@ -1,0 +1,81 @@
+#include "robot_agent/slam/small_foreground_objects.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/test_support.h"
+
+namespace fleetmap {
+namespace {
+
+// A 181-beam scan of `world` from the origin, as points in beam order (no-returns left out).
+std::vector<Eigen::Vector2f> Points(const testing::SegmentWorld& world) {
+  const LaserScan scan = testing::SimulateScan(world, Rigid2d(), 181, static_cast<float>(-M_PI / 2),
+                                               static_cast<float>(M_PI / 180), 10.0f);
+  std::vector<Eigen::Vector2f> points;
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    if (!std::isfinite(scan.ranges[i]) || scan.ranges[i] >= 10.0f) continue;
+    const float bearing = scan.angle_min + static_cast<float>(i) * scan.angle_increment;
+    points.emplace_back(scan.ranges[i] * std::cos(bearing), scan.ranges[i] * std::sin(bearing));
+  }
+  return points;
+}
+
+// How many points are flagged, and whether all of them lie inside the box [lo, hi].
+struct Flagged {
+  int count = 0;
+  bool all_inside = true;
+};
+Flagged FlaggedIn(const std::vector<Eigen::Vector2f>& points, const Eigen::Vector2f& lo,
+                  const Eigen::Vector2f& hi) {
+  const std::vector<bool> small = SmallForegroundObjects(points, SmallForegroundObjectOptions());
+  Flagged flagged;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!small[i]) continue;
+    ++flagged.count;
+    flagged.all_inside = flagged.all_inside && (points[i].array() >= lo.array() - 0.01f).all() &&
+                         (points[i].array() <= hi.array() + 0.01f).all();
+  }
+  return flagged;
+}
+
+// A corridor 2.4 m wide with its end wall 8 m ahead, and a door on the left 3 m ahead, with the
+// room behind it.
+testing::SegmentWorld Corridor() {
+  return {{Eigen::Vector2d(-1.0, -1.2), Eigen::Vector2d(8.0, -1.2)},
+          {Eigen::Vector2d(-1.0, 1.2), Eigen::Vector2d(3.0, 1.2)},
+          {Eigen::Vector2d(4.0, 1.2), Eigen::Vector2d(8.0, 1.2)},
+          {Eigen::Vector2d(3.0, 1.2), Eigen::Vector2d(3.0, 5.0)},
+          {Eigen::Vector2d(4.0, 1.2), Eigen::Vector2d(4.0, 5.0)},
+          {Eigen::Vector2d(3.0, 5.0), Eigen::Vector2d(4.0, 5.0)},
+          {Eigen::Vector2d(8.0, -1.2), Eigen::Vector2d(8.0, 1.2)}};
+}
+
+TEST(SmallForegroundObjectsTest, WallsJambsAndDoorsAreNotSmallObjects) {
+  EXPECT_EQ(FlaggedIn(Points(Corridor()), {0, 0}, {0, 0}).count, 0);
+}
+
+TEST(SmallForegroundObjectsTest, ARobotAheadIsOneWhereverItStands) {
+  for (const double y : {0.0, 0.6, -0.6}) {
+    testing::SegmentWorld world = Corridor();
+    testing::AddBox(Eigen::Vector2d(3.0, y - 0.2), Eigen::Vector2d(3.4, y + 0.2), &world);
+    const Flagged flagged = FlaggedIn(Points(world), Eigen::Vector2f(3.0f, y - 0.2f), Eigen::Vector2f(3.4f, y + 0.2f));
+    EXPECT_GE(flagged.count, 5) << "y " << y;
+    EXPECT_TRUE(flagged.all_inside) << "y " << y;
+  }
+}
+
+TEST(SmallForegroundObjectsTest, ABodyInFrontOfOpenSpaceIsOneAndALargeBoxIsNot) {
+  // Nothing behind the body within range: its neighbours are beams that saw nothing.
+  testing::SegmentWorld open;
+  testing::AddBox(Eigen::Vector2d(2.0, -0.2), Eigen::Vector2d(2.4, 0.2), &open);
+  EXPECT_GE(FlaggedIn(Points(open), {2.0f, -0.2f}, {2.4f, 0.2f}).count, 5);
+  testing::SegmentWorld large = Corridor();
+  testing::AddBox(Eigen::Vector2d(3.0, -0.6), Eigen::Vector2d(3.4, 0.6), &large);
+  EXPECT_EQ(FlaggedIn(Points(large), {0, 0}, {0, 0}).count, 0);
+}
+
+}  // namespace
+}  // namespace fleetmap
