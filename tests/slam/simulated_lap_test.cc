@@ -40,7 +40,7 @@ TEST(SimulatedLapTest, ScanMatchingClosesTheBuildingLap) {
 
 // The merge end-to-end test's short scenario: robot1 drives 35 s with robot3 3 m ahead going the
 // same way. The other robot's back, mapped at every insertion, left a trail whose front end held
-// robot1 back: its local SLAM ended 1.9-2.2 m short (4 seeds). Returns off small objects that did
+// robot1 back: its local SLAM ended 1.86-2.04 m short (4 seeds). Returns off small objects that did
 // not stay put since the last scan stay out of the local map now: 0.005-0.21 m on those seeds.
 TEST(SimulatedLapTest, ARobotDrivingAheadDoesNotHoldTheFollowerBack) {
   ScanMatchingSlam slam;
