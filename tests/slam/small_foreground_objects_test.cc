@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "shared/core/laser_scan.h"
 #include "tests/support/test_support.h"
 
 namespace fleetmap {
@@ -12,15 +13,8 @@ namespace {
 
 // A 181-beam scan of `world` from the origin, as points in beam order (no-returns left out).
 std::vector<Eigen::Vector2f> Points(const testing::SegmentWorld& world) {
-  const LaserScan scan = testing::SimulateScan(world, Rigid2d(), 181, static_cast<float>(-M_PI / 2),
-                                               static_cast<float>(M_PI / 180), 10.0f);
-  std::vector<Eigen::Vector2f> points;
-  for (size_t i = 0; i < scan.ranges.size(); ++i) {
-    if (!std::isfinite(scan.ranges[i]) || scan.ranges[i] >= 10.0f) continue;
-    const float bearing = scan.angle_min + static_cast<float>(i) * scan.angle_increment;
-    points.emplace_back(scan.ranges[i] * std::cos(bearing), scan.ranges[i] * std::sin(bearing));
-  }
-  return points;
+  return ToPointsInRobotFrame(testing::SimulateScan(world, Rigid2d(), 181, static_cast<float>(-M_PI / 2),
+                                                    static_cast<float>(M_PI / 180), 10.0f));
 }
 
 // How many points are flagged, and whether all of them lie inside the box [lo, hi].
