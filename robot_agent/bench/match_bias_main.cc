@@ -7,6 +7,7 @@
 // - frontend: the scan-matching backend's match (MatchScan, refinement only, as with odometry)
 //   against its local map of recent scans (LocalMatchMap), with its insertion filter; every
 //   scan is matched, as the frontend does.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -36,6 +37,12 @@ struct Settings {
   double stride = 1.0;      // the RBPF's update_translation (particle matcher)
   float max_range = 20.0f;  // ParticleSlamOptions::max_range
   float voxel = 0.1f;       // ParticleSlamOptions::match_voxel
+  // Frontend matcher: the scan thinned as the frontend does (ThinBeams at this spacing, 0: every
+  // return), or instead to one return per voxel (VoxelFilter, the frontend's thinning until
+  // session 14), in beam order or in reverse.
+  float beam_spacing = ScanMatchingSlamOptions().match_beam_spacing;
+  float frontend_voxel = 0.0f;
+  bool reverse_beams = false;
   bool verbose = false;
 };
 
@@ -132,8 +139,16 @@ int RunFrontend(const Settings& settings, const SlamLog& log, const Trajectory& 
   for (const LaserScan& scan : log.scans) {
     const Rigid2d pose = TruthAt(truth, scan.timestamp, &t);
     if (last_inserted) {
-      const std::vector<Eigen::Vector2f> points = VoxelFilter(
-          ReturnsInsideHorizon(scan, options.max_range, options.match_range_margin), options.voxel_size);
+      std::vector<Eigen::Vector2f> points;
+      if (settings.frontend_voxel > 0.0f) {
+        points = ReturnsInsideHorizon(scan, options.max_range, options.match_range_margin);
+        if (settings.reverse_beams) std::reverse(points.begin(), points.end());
+        points = VoxelFilter(points, settings.frontend_voxel);
+        if (settings.reverse_beams) std::reverse(points.begin(), points.end());
+      } else {
+        points = ReturnsInsideHorizon(ThinBeams(scan, settings.beam_spacing), options.max_range,
+                                      options.match_range_margin);
+      }
       const std::optional<ScanMatchResult> match = MatchScan(points, map.target(), nullptr, pose, pose, matcher);
       if (match) {
         const double error = (pose.inverse() * match->pose).rotation();
@@ -191,6 +206,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.01, 100.0));
   app.add_option("--max-range", settings.max_range, "Returns farther than this are not used, metres")
       ->capture_default_str()->check(CLI::Range(0.5f, 100.0f));
+  app.add_option("--beam-spacing", settings.beam_spacing,
+                 "Frontend matcher: thin each scan's near beams to returns this far apart, as the frontend does (0: every return)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 1.0f));
+  app.add_option("--frontend-voxel", settings.frontend_voxel,
+                 "Frontend matcher: thin each scan to one return per voxel of this size instead (0: off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 1.0f));
+  app.add_flag("--reverse-beams", settings.reverse_beams, "Frontend matcher: voxels filled in reverse beam order");
   app.add_flag("--verbose", settings.verbose, "One line per matched scan");
   CLI11_PARSE(app, argc, argv);
   return fleetmap::Run(settings);

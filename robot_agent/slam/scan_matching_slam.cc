@@ -66,8 +66,9 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
   Rigid2d pose = predicted;
   const std::vector<Eigen::Vector2f> matched =
       ReturnsInsideHorizon(scan, options_.max_range, options_.match_range_margin);
-  const std::vector<Eigen::Vector2f> filtered = VoxelFilter(matched, options_.voxel_size);
-  if (!filtered.empty() && !local_map_.target().empty()) pose = Match(filtered, predicted, matched);
+  const std::vector<Eigen::Vector2f> thinned = ReturnsInsideHorizon(
+      ThinBeams(scan, options_.match_beam_spacing), options_.max_range, options_.match_range_margin);
+  if (!thinned.empty() && !local_map_.target().empty()) pose = Match(thinned, predicted);
   current_pose_ = pose;
   local_poses_.push_back(pose);
   trajectory_.push_back({scan.timestamp, loop_closure_.CorrectionAt(scan.timestamp) * pose});
@@ -87,17 +88,15 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
       if (range > options_.max_range) range = LaserScan::kNoReturn;
     }
     const std::optional<SubmapBuilder::Insertion> insertion = submaps_.Insert(limited, pose);
-    if (insertion && loop_closure_.AddNode(scan.timestamp, filtered, pose, insertion->submap_id,
-                                           insertion->submap_in_local)) {
+    if (insertion && loop_closure_.AddNode(scan.timestamp, VoxelFilter(matched, options_.node_voxel_size), pose,
+                                           insertion->submap_id, insertion->submap_in_local)) {
       ApplyCorrections();
     }
   }
   return true;
 }
 
-Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& points,
-                                const Rigid2d& predicted,
-                                const std::vector<Eigen::Vector2f>& beam_points) {
+Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& points, const Rigid2d& predicted) {
   const MatchGrid& target = local_map_.target();
   ScanMatcherOptions options = options_.matcher;
   std::optional<ScanMatchResult> match;
@@ -134,7 +133,7 @@ Rigid2d ScanMatchingSlam::Match(const std::vector<Eigen::Vector2f>& points,
     }
   }
   if (options_.min_observed_normals > 0.0 && !odometry_.empty()) {
-    const Rigid2d kept = KeepObservedDirections(predicted, match->pose, NormalScatter(beam_points),
+    const Rigid2d kept = KeepObservedDirections(predicted, match->pose, NormalScatter(points),
                                                 options_.min_observed_normals);
     if ((kept.translation() - match->pose.translation()).norm() > 1e-9) ++counters_.degenerate;
     return kept;

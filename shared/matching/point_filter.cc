@@ -1,5 +1,6 @@
 #include "shared/matching/point_filter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <unordered_set>
@@ -21,6 +22,19 @@ std::vector<Eigen::Vector2f> VoxelFilter(const std::vector<Eigen::Vector2f>& poi
     if (seen.insert(key).second) kept.push_back(p);
   }
   return kept;
+}
+
+LaserScan ThinBeams(const LaserScan& scan, float min_spacing) {
+  LaserScan thinned = scan;
+  const float increment = std::abs(scan.angle_increment);
+  if (!(min_spacing > 0.0f) || !(increment > 0.0f)) return thinned;
+  for (int i = 0; i < scan.size(); ++i) {
+    if (!scan.IsReturn(i)) continue;
+    float& range = thinned.ranges[static_cast<size_t>(i)];
+    const float stride = std::floor(min_spacing / (range * increment));
+    if (stride >= 2.0f && i % static_cast<int>(std::min(stride, 1e6f)) != 0) range = LaserScan::kNoReturn;
+  }
+  return thinned;
 }
 
 std::vector<Eigen::Vector2f> RangeFilter(const std::vector<Eigen::Vector2f>& points,

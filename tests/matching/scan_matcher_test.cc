@@ -1,5 +1,7 @@
 #include "shared/matching/scan_matcher.h"
 
+#include <random>
+
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
@@ -187,6 +189,44 @@ TEST(PointFilterTest, VoxelFilterKeepsOnePointPerCell) {
   EXPECT_EQ(kept[1], points[2]);
   EXPECT_EQ(kept[2], points[3]);
   EXPECT_EQ(RangeFilter(points, 0.1f).size(), 3u);
+}
+
+TEST(PointFilterTest, ThinBeamsKeepsEveryKthNearBeamAndEveryFarOne) {
+  // 1 degree apart: at 0.5 m returns are 8.7 mm apart (every 5th beam for 5 cm), at 1 m 17 mm
+  // (every 2nd), at 5 m 87 mm (all).
+  std::vector<float> ranges(30, 0.5f);
+  for (int i = 10; i < 20; ++i) ranges[static_cast<size_t>(i)] = 1.0f;
+  for (int i = 20; i < 30; ++i) ranges[static_cast<size_t>(i)] = 5.0f;
+  ranges[12] = LaserScan::kNoReturn;
+  const LaserScan scan = MakeLaserScan(0.0, 0.0f, static_cast<float>(M_PI / 180), 0.02f, 8.0f, ranges);
+  const LaserScan thinned = ThinBeams(scan, 0.05f);
+  std::vector<int> kept;
+  for (int i = 0; i < thinned.size(); ++i) {
+    if (thinned.IsReturn(i)) kept.push_back(i);
+  }
+  const std::vector<int> expected = {0, 5, 10, 14, 16, 18, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29};
+  EXPECT_EQ(kept, expected);
+  EXPECT_EQ(ThinBeams(scan, 0.0f).ranges, scan.ranges);
+}
+
+// Which beams survive must not depend on the range noise: a filter that picks returns by their
+// measured positions picks the ones noise pushed one way, and the match of the survivors turns.
+TEST(PointFilterTest, ThinBeamsPicksTheSameBeamsWhateverTheNoise) {
+  const testing::SegmentWorld corridor = {{Eigen::Vector2d(-5.0, -0.8), Eigen::Vector2d(20.0, -0.8)},
+                                          {Eigen::Vector2d(-5.0, 1.6), Eigen::Vector2d(20.0, 1.6)}};
+  const LaserScan exact = testing::SimulateScan(corridor, Rigid2d());
+  LaserScan noisy = exact;
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.0f, 0.01f);
+  for (float& range : noisy.ranges) range += noise(rng);
+  const LaserScan thinned_exact = ThinBeams(exact, 0.05f), thinned_noisy = ThinBeams(noisy, 0.05f);
+  int kept = 0, differ = 0;
+  for (int i = 0; i < exact.size(); ++i) {
+    kept += thinned_exact.IsReturn(i) ? 1 : 0;
+    differ += thinned_exact.IsReturn(i) != thinned_noisy.IsReturn(i) ? 1 : 0;
+  }
+  EXPECT_LT(kept, exact.size() * 3 / 4);  // it does thin
+  EXPECT_LE(differ, 2);                   // only beams at a stride boundary may change
 }
 
 }  // namespace
