@@ -64,8 +64,6 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
   std::vector<Eigen::Vector2f> points = RangeFilter(ToPointsInRobotFrame(scan), options_.max_range);
   if (points.empty()) ++counters_.no_return_scans;
   Rigid2d pose = predicted;
-  const std::vector<Eigen::Vector2f> matched =
-      ReturnsInsideHorizon(scan, options_.max_range, options_.match_range_margin);
   const std::vector<Eigen::Vector2f> thinned = ReturnsInsideHorizon(
       ThinBeams(scan, options_.match_beam_spacing), options_.max_range, options_.match_range_margin);
   if (!thinned.empty() && !local_map_.target().empty()) pose = Match(thinned, predicted);
@@ -88,8 +86,10 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
       if (range > options_.max_range) range = LaserScan::kNoReturn;
     }
     const std::optional<SubmapBuilder::Insertion> insertion = submaps_.Insert(limited, pose);
-    if (insertion && loop_closure_.AddNode(scan.timestamp, VoxelFilter(matched, options_.node_voxel_size), pose,
-                                           insertion->submap_id, insertion->submap_in_local)) {
+    if (!insertion) return true;
+    const std::vector<Eigen::Vector2f> node_points = VoxelFilter(
+        ReturnsInsideHorizon(scan, options_.max_range, options_.match_range_margin), options_.node_voxel_size);
+    if (loop_closure_.AddNode(scan.timestamp, node_points, pose, insertion->submap_id, insertion->submap_in_local)) {
       ApplyCorrections();
     }
   }
