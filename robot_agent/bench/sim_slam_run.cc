@@ -24,11 +24,12 @@ bool RunSimulatedScenario(const std::string& scenario_path, LocalSlam* slam, Sim
     for (const sim::SensorPacket& packet : step.packets) {
       if (packet.robot_index != 0) continue;
       const Clock::time_point start = Clock::now();
-      if (packet.odometry &&
-          !slam->AddOdometry({packet.odometry->timestamp, packet.odometry->robot_pose}, error)) {
-        return false;
-      }
       if (packet.laser) {
+        // As fleetmap-slam and the agent do: odometry from the laser's records, at each scan's
+        // instant (the simulator's odometry records run at their own rate, every 0.06 s).
+        if (!slam->AddOdometry({packet.laser->scan.timestamp, packet.laser->robot_pose}, error)) {
+          return false;
+        }
         if (!slam->AddScan(packet.laser->scan, error)) return false;
         run->ground_truth.push_back({packet.laser->scan.timestamp, packet.ground_truth});
         if (++run->scans % 100 == 0) take_submaps();

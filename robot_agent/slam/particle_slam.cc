@@ -18,7 +18,6 @@ ParticleSlamOptions ParticleSlamOptions::FastSlam() {
   // Smaller steps than the RBPF: a motion-model proposal needs its particles close together.
   options.update_translation = 0.3;
   options.update_rotation = 0.2;
-  options.weight_voxel = 0.0f;
   return options;
 }
 
@@ -95,7 +94,7 @@ ParticleSlam::PreparedScan ParticleSlam::Prepare(const LaserScan& scan,
   ParticleScan& out = prepared.filter;
   out.match_points = VoxelFilter(matched, options_.match_voxel);
   out.normal_scatter = NormalScatter(matched);
-  out.weight_points = VoxelFilter(returns, options_.weight_voxel);
+  out.weight_points = VoxelFilter(returns, options_.match_voxel);
   prepared.node_points = VoxelFilter(matched, options_.node_voxel);
   SetRays(scan, options_.max_range, &out);
   return prepared;

@@ -32,14 +32,8 @@ struct ParticleSlamOptions {
   // proposal's reach (its 20 cm search). The tracker keeps its own margin (tracker options).
   float match_range_margin = 0.3f;
   int horizon_keyframes = 10;
-  // The improved proposal's match uses one point per voxel of this size (metres).
+  // Matching and weighting use one point per voxel of this size (metres).
   float match_voxel = 0.1f;
-  // The weights (the scan likelihood) use one point per voxel of this size; 0: every return.
-  // FastSLAM weighs every return: on 16 seeds its rectangle held 0.5 % on 15 instead of 14 and
-  // its building lap ended 1.3-1.4 m off (median) instead of 1.6-2.5 m, at the same intel and
-  // aces figures and time. The RBPF keeps 10 cm: its lattice evaluates the likelihood 27 times
-  // per particle, and every return tripled its time (docs/BENCHMARKS.md, issue 5, session 15).
-  float weight_voxel = 0.1f;
   // A filter update (keyframe) runs when the robot moved this far (metres / radians).
   double update_translation = 1.0;
   double update_rotation = 0.5;
