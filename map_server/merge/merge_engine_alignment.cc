@@ -177,6 +177,14 @@ bool MergeEngine::Agree(const Hypothesis& a, const Hypothesis& b) const {
       if (b.submaps_b.count(id)) return false;
     }
   }
+  // Nor is the same pair of submaps matched the other way round (b's submap landing on a's node
+  // that a matched): where one match slides along a corridor, its reverse slides with it.
+  auto matched = [](const Hypothesis& h, const NodeId& node) {
+    return node.robot == h.robot_b && h.submaps_b.count(node.submap) > 0;
+  };
+  if ((!a.detection || !b.detection) && (matched(a, b.edge.from) || matched(b, a.edge.from))) {
+    return false;
+  }
   const std::string ra = Root(a.robot_a), rb = Root(a.robot_b);
   Rigid2d fb = FrameTransform(b);
   if (Root(b.robot_a) == rb && Root(b.robot_b) == ra) {
