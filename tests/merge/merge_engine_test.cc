@@ -182,8 +182,8 @@ TEST(MergeEngineTest, CrossMatchingMergesWithoutDetections) {
 
 // The same two submaps matched each way round (a's against b's map, b's against a's) are one
 // piece of evidence seen twice: where one slides along a corridor, the other slides with it (on
-// the merge bench's east_end scenario without detections, robot3 joined 3.3 m along its corridor
-// that way). With one submap each, nothing else can confirm the match.
+// the merge bench's east_end scenario without detections, robot3 was first joined 3.3 m along
+// its corridor that way). With one submap each, nothing else can confirm the match.
 TEST(MergeEngineTest, ASubmapMatchAndItsReverseDoNotConfirmEachOther) {
   SimRobot a{"a", testing::PathThrough({{5, 6}, {9, 6}}, 0.25), Rigid2d(5, 6, 0.3)};
   SimRobot b{"b", testing::PathThrough({{9, 6.3}, {5, 6.3}}, 0.25), Rigid2d(9, 6.3, -2.4)};
