@@ -31,17 +31,28 @@ double OuterWall(const std::vector<double>& sorted, bool low, const MapExtentOpt
 
 std::optional<MapExtent> MeasureOuterWalls(const OccupancyGrid& map, const Rigid2d& world_from_map,
                                            const MapExtentOptions& options) {
-  std::vector<double> xs, ys;
+  std::vector<Eigen::Vector2d> occupied;
   for (int y = 0; y < map.height(); ++y) {
     for (int x = 0; x < map.width(); ++x) {
       const CellIndex cell(x, y);
-      if (map.Probability(cell) <= options.occupied_probability) continue;
-      const Eigen::Vector2d world = world_from_map * map.CellCenter(cell);
-      xs.push_back(world.x());
-      ys.push_back(world.y());
+      if (map.Probability(cell) > options.occupied_probability) {
+        occupied.push_back(world_from_map * map.CellCenter(cell));
+      }
     }
   }
-  if (xs.empty()) return std::nullopt;
+  return MeasureOuterWalls(occupied, options);
+}
+
+std::optional<MapExtent> MeasureOuterWalls(const std::vector<Eigen::Vector2d>& points,
+                                           const MapExtentOptions& options) {
+  if (points.empty()) return std::nullopt;
+  std::vector<double> xs, ys;
+  xs.reserve(points.size());
+  ys.reserve(points.size());
+  for (const Eigen::Vector2d& p : points) {
+    xs.push_back(p.x());
+    ys.push_back(p.y());
+  }
   std::sort(xs.begin(), xs.end());
   std::sort(ys.begin(), ys.end());
   MapExtent extent;

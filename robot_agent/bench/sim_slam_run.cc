@@ -36,6 +36,7 @@ bool RunSimulatedScenario(const std::string& scenario_path, LocalSlam* slam, Sim
       }
       spent += Clock::now() - start;
       // Outside the timed part: the backend's time is what the table reports.
+      if (packet.laser) run->returns.push_back(ToPointsInRobotFrame(packet.laser->scan));
       if (truth_map && packet.laser) truth_map->InsertScan(packet.laser->scan, packet.ground_truth);
     }
   }

@@ -4,6 +4,9 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "robot_agent/slam/local_slam.h"
 #include "shared/core/occupancy_grid.h"
@@ -16,6 +19,9 @@ struct SimSlamRun {
   Trajectory estimate;      // one pose per scan, robot in the local map
   Trajectory ground_truth;  // robot in the world at the same timestamps
   std::map<int64_t, Submap> submaps;  // latest version of every submap
+  // Every scan's returns in the robot frame, in the order of `ground_truth`: the walls can be
+  // measured at the estimated poses without a grid's quantisation.
+  std::vector<std::vector<Eigen::Vector2f>> returns;
   int64_t scans = 0;
   double slam_seconds = 0.0;  // wall time inside the backend
 };

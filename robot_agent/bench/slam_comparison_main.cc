@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -48,17 +49,31 @@ std::unique_ptr<LocalSlam> MakeBackend(BackendChoice choice, const std::string& 
   return slam;
 }
 
+// Every return of `run` at the poses of `poses` (one per scan, as `run.ground_truth`), moved by
+// `world_from_poses`; empty when the poses do not match the scans one to one.
+std::vector<Eigen::Vector2d> WorldReturns(const SimSlamRun& run, const Trajectory& poses,
+                                          const Rigid2d& world_from_poses) {
+  std::vector<Eigen::Vector2d> points;
+  if (poses.size() != run.returns.size() || poses.size() != run.ground_truth.size()) return points;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    if (std::abs(poses[i].timestamp - run.ground_truth[i].timestamp) > 1e-6) return {};
+    const Rigid2d robot_in_world = world_from_poses * poses[i].pose;
+    for (const Eigen::Vector2f& p : run.returns[i]) points.push_back(robot_in_world * Eigen::Vector2d(p.cast<double>()));
+  }
+  return points;
+}
+
 // Table I: the simulator scenarios. Returns false on an error.
 bool RunScenarios(const std::string& scenarios_dir, const std::vector<std::string>& names,
                   const std::vector<std::string>& algorithms, const BackendChoice& base) {
-  std::printf("| scenario | backend | real L x H (m) | measured L x H (m) | L / H error | end-point error (m) | ATE RMSE (m, deg) | time (s) |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+  std::printf("| scenario | backend | real L x H (m) | measured L x H (m) | L / H error | on the map's cells | end-point error (m) | ATE RMSE (m, deg) | time (s) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& name : names) {
     BenchScenario scenario{name};
     if (name.rfind("rectangle", 0) == 0) scenario.real_size = Eigen::Vector2d(20.9, 16.6);
-    // The size a perfect SLAM's map reads (every scan at its true pose): the measurement's own
-    // floor (cell centres on a 5 cm grid), measured once per scenario.
-    std::optional<Eigen::Vector2d> size_at_true_poses;
+    // The size a perfect SLAM reads (every scan at its true pose), on the returns and on the
+    // map's cells (centres on a 5 cm grid).
+    std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> size_at_true_poses;
     for (const std::string& algorithm : algorithms) {
       std::unique_ptr<LocalSlam> slam = MakeBackend(base, algorithm);
       if (!slam) return false;
@@ -81,39 +96,51 @@ bool RunScenarios(const std::string& scenarios_dir, const std::vector<std::strin
       const Rigid2d estimated = run.estimate.front().pose.inverse() * run.estimate.back().pose;
       const Rigid2d truth = run.ground_truth.front().pose.inverse() * run.ground_truth.back().pose;
       const double end_error = (estimated.translation() - truth.translation()).norm();
-      std::string real = "-", measured = "-", size_error = "-";
+      std::string real = "-", measured = "-", size_error = "-", cell_error = "-";
       if (scenario.real_size.x() > 0.0 && ate) {
+        const Eigen::Vector2d& real_size = scenario.real_size;
+        const auto format_error = [&](const Eigen::Vector2d& size) {
+          char text[64];
+          std::snprintf(text, sizeof(text), "%.2f %% / %.2f %%",
+                        100.0 * std::abs(size.x() - real_size.x()) / real_size.x(),
+                        100.0 * std::abs(size.y() - real_size.y()) / real_size.y());
+          return std::string(text);
+        };
+        char text[160];
+        std::snprintf(text, sizeof(text), "%.2f x %.2f", real_size.x(), real_size.y());
+        real = text;
+        // On the returns at the estimated poses (brought into the world by the ATE alignment):
+        // the walls where the map draws them, without its cells' quantisation.
+        if (const auto extent = MeasureOuterWalls(WorldReturns(run, run.estimate, ate->ground_truth_from_estimate))) {
+          std::snprintf(text, sizeof(text), "%.3f x %.3f", extent->size().x(), extent->size().y());
+          measured = text;
+          size_error = format_error(extent->size());
+        }
+        // The same on the map's occupied cells, as the paper reads its maps.
         std::vector<const Submap*> submaps;
         for (const auto& [id, submap] : run.submaps) submaps.push_back(&submap);
         const OccupancyGrid map = AssembleSubmaps(submaps, OccupancyGridOptions());
-        const std::optional<MapExtent> extent = MeasureOuterWalls(map, ate->ground_truth_from_estimate);
-        char text[128];
+        if (const auto extent = MeasureOuterWalls(map, ate->ground_truth_from_estimate)) {
+          cell_error = format_error(extent->size());
+        }
+        // What a perfect SLAM reads, each way: the measurements' own floor, once per scenario.
         if (truth_map) {
-          if (const std::optional<MapExtent> at_truth = MeasureOuterWalls(*truth_map, Rigid2d())) {
-            size_at_true_poses = at_truth->size();
-          }
+          const auto on_cells = MeasureOuterWalls(*truth_map, Rigid2d());
+          const auto on_returns = MeasureOuterWalls(WorldReturns(run, run.ground_truth, Rigid2d()));
+          if (on_cells && on_returns) size_at_true_poses = {on_returns->size(), on_cells->size()};
         }
-        std::snprintf(text, sizeof(text), "%.2f x %.2f", scenario.real_size.x(), scenario.real_size.y());
-        real = text;
         if (size_at_true_poses) {
-          std::snprintf(text, sizeof(text), " (true poses: %.3f x %.3f)", size_at_true_poses->x(),
-                        size_at_true_poses->y());
+          std::snprintf(text, sizeof(text), " (true poses: %.3f x %.3f; cells %.3f x %.3f)",
+                        size_at_true_poses->first.x(), size_at_true_poses->first.y(),
+                        size_at_true_poses->second.x(), size_at_true_poses->second.y());
           real += text;
-        }
-        if (extent) {
-          const Eigen::Vector2d size = extent->size();
-          std::snprintf(text, sizeof(text), "%.3f x %.3f", size.x(), size.y());
-          measured = text;
-          std::snprintf(text, sizeof(text), "%.2f %% / %.2f %%",
-                        100.0 * std::abs(size.x() - scenario.real_size.x()) / scenario.real_size.x(),
-                        100.0 * std::abs(size.y() - scenario.real_size.y()) / scenario.real_size.y());
-          size_error = text;
         }
       }
       char ate_text[64] = "-";
       if (ate) std::snprintf(ate_text, sizeof(ate_text), "%.3f, %.2f", ate->rmse_translation, ate->rmse_rotation_deg);
-      std::printf("| %s | %s | %s | %s | %s | %.3f | %s | %.2f |\n", name.c_str(), algorithm.c_str(),
-                  real.c_str(), measured.c_str(), size_error.c_str(), end_error, ate_text, run.slam_seconds);
+      std::printf("| %s | %s | %s | %s | %s | %s | %.3f | %s | %.2f |\n", name.c_str(),
+                  algorithm.c_str(), real.c_str(), measured.c_str(), size_error.c_str(),
+                  cell_error.c_str(), end_error, ate_text, run.slam_seconds);
       std::fflush(stdout);
     }
   }
