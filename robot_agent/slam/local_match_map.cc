@@ -5,6 +5,14 @@
 namespace fleetmap {
 namespace {
 
+std::vector<Eigen::Vector2d> InLocal(const std::vector<Eigen::Vector2f>& points_in_robot,
+                                     const Rigid2d& robot_in_local) {
+  std::vector<Eigen::Vector2d> in_local;
+  in_local.reserve(points_in_robot.size());
+  for (const Eigen::Vector2f& p : points_in_robot) in_local.push_back(robot_in_local * Eigen::Vector2d(p.cast<double>()));
+  return in_local;
+}
+
 // How far short of a held-back return (metres, two cells) its beam marks space as seen.
 constexpr float kHeldBackShortfall = 0.1f;
 
@@ -26,13 +34,28 @@ LocalMatchMap::LocalMatchMap(const LocalMatchMapOptions& options)
 
 std::vector<bool> LocalMatchMap::Track(const std::vector<Eigen::Vector2f>& points_in_robot,
                                        const Rigid2d& robot_in_local) {
-  std::vector<Eigen::Vector2d> in_local;
-  in_local.reserve(points_in_robot.size());
-  for (const Eigen::Vector2f& p : points_in_robot) in_local.push_back(robot_in_local * Eigen::Vector2d(p.cast<double>()));
-  std::vector<bool> mappable = persistence_.Observe(in_local, robot_in_local.translation());
+  std::vector<bool> mappable =
+      persistence_.Observe(InLocal(points_in_robot, robot_in_local), robot_in_local.translation());
   const std::vector<bool> small = SmallForegroundObjects(points_in_robot, options_.small_objects);
   for (size_t i = 0; i < mappable.size(); ++i) mappable[i] = mappable[i] || !small[i];
   return mappable;
+}
+
+std::vector<bool> LocalMatchMap::Moved(const std::vector<Eigen::Vector2f>& points_in_robot,
+                                       const Rigid2d& robot_in_local) const {
+  const std::vector<bool> persisted = persistence_.Persisted(InLocal(points_in_robot, robot_in_local));
+  const std::vector<int> object = SmallForegroundObjectIds(points_in_robot, options_.small_objects);
+  // Moved: none of its returns lies where the last scan saw a surface. A door jamb coming out
+  // from behind a wall's corner shows a new part of its face, but also the part seen before.
+  std::vector<bool> seen_before(object.size(), false);  // by object id (fewer than returns)
+  for (size_t i = 0; i < object.size(); ++i) {
+    if (object[i] >= 0 && persisted[i]) seen_before[static_cast<size_t>(object[i])] = true;
+  }
+  std::vector<bool> moved(object.size(), false);
+  for (size_t i = 0; i < object.size(); ++i) {
+    moved[i] = object[i] >= 0 && !seen_before[static_cast<size_t>(object[i])];
+  }
+  return moved;
 }
 
 void LocalMatchMap::Insert(const std::vector<Eigen::Vector2f>& points_in_robot,

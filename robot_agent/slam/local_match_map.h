@@ -55,6 +55,11 @@ class LocalMatchMap {
   // which of them may go into the map (see small_objects). Call it for every scan, inserted or
   // not: it judges each scan against the one before.
   std::vector<bool> Track(const std::vector<Eigen::Vector2f>& points_in_robot, const Rigid2d& robot_in_local);
+  // Which of a scan's returns (robot frame, beam order) taken at `robot_in_local` (e.g. the pose
+  // odometry predicts) lie on small objects that moved since the last scan Track saw: none of
+  // their returns persists. Records nothing.
+  std::vector<bool> Moved(const std::vector<Eigen::Vector2f>& points_in_robot,
+                          const Rigid2d& robot_in_local) const;
   // Adds a scan's points (robot frame) taken at `robot_in_local`, those `mappable` says (what
   // Track said of them; empty: all). `free_ends_in_robot`: where the beams that saw nothing end
   // (the range limit), so that the space they crossed counts as seen.

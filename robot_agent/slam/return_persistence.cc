@@ -55,8 +55,7 @@ void ReturnPersistence::Add(const Eigen::Vector2d& a, const Eigen::Vector2d& b) 
   }
 }
 
-std::vector<bool> ReturnPersistence::Observe(const std::vector<Eigen::Vector2d>& points,
-                                             const Eigen::Vector2d& origin) {
+std::vector<bool> ReturnPersistence::Persisted(const std::vector<Eigen::Vector2d>& points) const {
   const bool pass_all = first_call_ || !(options_.tolerance > 0.0);
   std::vector<bool> persisted(points.size(), pass_all);
   if (!pass_all) {
@@ -64,6 +63,12 @@ std::vector<bool> ReturnPersistence::Observe(const std::vector<Eigen::Vector2d>&
       persisted[i] = points[i].allFinite() && Distance(points[i]) <= options_.tolerance;
     }
   }
+  return persisted;
+}
+
+std::vector<bool> ReturnPersistence::Observe(const std::vector<Eigen::Vector2d>& points,
+                                             const Eigen::Vector2d& origin) {
+  const std::vector<bool> persisted = Persisted(points);
   first_call_ = false;
   // This scan's surface, for the next: each return, joined to the next one when they are close
   // or on one surface.

@@ -40,6 +40,9 @@ class ReturnPersistence {
   // no map yet there is nothing to protect, and a robot without odometry only moves once it has
   // a map.
   std::vector<bool> Observe(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin);
+  // What Observe would say of `points`, without recording them (e.g. at a predicted pose,
+  // before the scan is matched).
+  std::vector<bool> Persisted(const std::vector<Eigen::Vector2d>& points) const;
 
  private:
   struct Segment {

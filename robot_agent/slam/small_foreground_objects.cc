@@ -6,9 +6,18 @@ namespace fleetmap {
 
 std::vector<bool> SmallForegroundObjects(const std::vector<Eigen::Vector2f>& points,
                                          const SmallForegroundObjectOptions& options) {
+  const std::vector<int> ids = SmallForegroundObjectIds(points, options);
+  std::vector<bool> small(ids.size());
+  for (size_t i = 0; i < ids.size(); ++i) small[i] = ids[i] >= 0;
+  return small;
+}
+
+std::vector<int> SmallForegroundObjectIds(const std::vector<Eigen::Vector2f>& points,
+                                          const SmallForegroundObjectOptions& options) {
   const size_t n = points.size();
-  std::vector<bool> small(n, false);
-  if (n == 0) return small;
+  std::vector<int> ids(n, -1);
+  if (n == 0) return ids;
+  int objects = 0;
   auto range = [&](size_t i) { return static_cast<double>(points[i].norm()); };
   auto bearing = [&](size_t i) { return std::atan2(static_cast<double>(points[i].y()), static_cast<double>(points[i].x())); };
   // Whether returns i and i + 1 lie on one object.
@@ -29,11 +38,12 @@ std::vector<bool> SmallForegroundObjects(const std::vector<Eigen::Vector2f>& poi
     const size_t last = i;  // run [begin, last]
     const bool compact = (points[last] - points[begin]).norm() <= options.max_size;
     if (compact && behind(begin, static_cast<long>(begin) - 1) && behind(last, static_cast<long>(last) + 1)) {
-      for (size_t k = begin; k <= last; ++k) small[k] = true;
+      for (size_t k = begin; k <= last; ++k) ids[k] = objects;
+      ++objects;
     }
     begin = i + 1;
   }
-  return small;
+  return ids;
 }
 
 }  // namespace fleetmap

@@ -26,6 +26,11 @@ struct SmallForegroundObjectOptions {
 std::vector<bool> SmallForegroundObjects(const std::vector<Eigen::Vector2f>& points_in_beam_order,
                                          const SmallForegroundObjectOptions& options);
 
+// The same, saying which object each return lies on: 0, 1, 2, ... in beam order, -1 for returns
+// on no small object.
+std::vector<int> SmallForegroundObjectIds(const std::vector<Eigen::Vector2f>& points_in_beam_order,
+                                          const SmallForegroundObjectOptions& options);
+
 }  // namespace fleetmap
 
 #endif  // FLEETMAP_ROBOT_AGENT_SLAM_SMALL_FOREGROUND_OBJECTS_H_

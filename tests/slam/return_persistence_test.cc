@@ -98,5 +98,18 @@ TEST(ReturnPersistenceTest, ZeroToleranceKeepsEverythingAndNonFiniteReturnsNever
   EXPECT_FALSE(kept[1]);
 }
 
+// Asking at a predicted pose does not replace the scan the next one is judged against.
+TEST(ReturnPersistenceTest, AskingDoesNotRecord) {
+  ReturnPersistence persistence;
+  const Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+  persistence.Observe(BodyBack(3.0), origin);
+  const std::vector<bool> moved = persistence.Persisted(BodyBack(2.9));
+  EXPECT_EQ(Count(moved, 0, moved.size()), 0);
+  const std::vector<bool> asked = persistence.Persisted(BodyBack(3.0));
+  EXPECT_EQ(Count(asked, 0, asked.size()), 9);
+  const std::vector<bool> observed = persistence.Observe(BodyBack(3.0), origin);
+  EXPECT_EQ(Count(observed, 0, observed.size()), 9);
+}
+
 }  // namespace
 }  // namespace fleetmap

@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "robot_agent/bench/sim_slam_run.h"
@@ -71,15 +74,33 @@ TEST(SimulatedLapTest, TheBuildingLapsHeadingDoesNotWander) {
 // same way. The other robot's back, mapped at every insertion, left a trail whose front end held
 // robot1 back: its local SLAM ended 1.86-2.04 m short (4 seeds). Returns off small objects that did
 // not stay put since the last scan stay out of the local map now: 0.005-0.21 m on those seeds.
+// Seeds 23 and 25 still froze robot1 for 4 s (3.2 and 3.8 m short): in the plain corridor robot3's
+// back was the only surface facing along it, so the corridor test took that direction as observed
+// and the match followed robot3 (once a return off its flank persisted and was mapped, robot3
+// showed at the same place scan after scan). What only small objects that moved since the last
+// scan face (judged at the odometry prediction) no longer counts as observed: 0.04-0.32 m over
+// seeds 21-28.
 TEST(SimulatedLapTest, ARobotDrivingAheadDoesNotHoldTheFollowerBack) {
-  ScanMatchingSlam slam;
-  SimSlamRun run;
-  std::string error;
-  ASSERT_TRUE(RunSimulatedScenario(testing::SourceDir() + "/tests/merge_e2e/east_end_3robots.yaml", &slam,
-                                   &run, &error))
-      << error;
-  ASSERT_GT(run.estimate.size(), 300u);
-  EXPECT_LT(EndPointError(run), 0.5) << slam.Statistics();
+  std::ifstream in(testing::SourceDir() + "/tests/merge_e2e/east_end_3robots.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string scenario = text.str();
+  const size_t seed_at = scenario.find("\nseed: 21\n");
+  ASSERT_NE(seed_at, std::string::npos);
+  const std::string dir = testing::MakeTempDir("driving_ahead");
+  for (int seed = 21; seed <= 28; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const std::string path = dir + "/east_end_" + std::to_string(seed) + ".yaml";
+    std::ofstream(path) << scenario.substr(0, seed_at) << "\nseed: " << seed << "\n"
+                        << scenario.substr(seed_at + 10);
+    ScanMatchingSlam slam;
+    SimSlamRun run;
+    std::string error;
+    ASSERT_TRUE(RunSimulatedScenario(path, &slam, &run, &error)) << error;
+    ASSERT_GT(run.estimate.size(), 300u);
+    EXPECT_LT(EndPointError(run), 0.5) << slam.Statistics();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

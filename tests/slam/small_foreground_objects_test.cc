@@ -71,5 +71,25 @@ TEST(SmallForegroundObjectsTest, ABodyInFrontOfOpenSpaceIsOneAndALargeBoxIsNot) 
   EXPECT_EQ(FlaggedIn(Points(large), {0, 0}, {0, 0}).count, 0);
 }
 
+// Two robots ahead are two objects, numbered in beam order; the walls are on none.
+TEST(SmallForegroundObjectsTest, EachObjectHasItsOwnNumber) {
+  testing::SegmentWorld world = Corridor();
+  testing::AddBox(Eigen::Vector2d(3.0, -0.8), Eigen::Vector2d(3.4, -0.4), &world);
+  testing::AddBox(Eigen::Vector2d(3.0, 0.4), Eigen::Vector2d(3.4, 0.8), &world);
+  const std::vector<Eigen::Vector2f> points = Points(world);
+  const std::vector<int> ids = SmallForegroundObjectIds(points, SmallForegroundObjectOptions());
+  const std::vector<bool> small = SmallForegroundObjects(points, SmallForegroundObjectOptions());
+  ASSERT_EQ(ids.size(), points.size());
+  int right = 0, left = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(ids[i] >= 0, small[i]);
+    if (ids[i] < 0) continue;
+    EXPECT_EQ(ids[i], points[i].y() < 0.0f ? 0 : 1) << "return " << i;  // the right one first
+    (points[i].y() < 0.0f ? right : left) += 1;
+  }
+  EXPECT_GE(right, 5);
+  EXPECT_GE(left, 5);
+}
+
 }  // namespace
 }  // namespace fleetmap
