@@ -102,9 +102,8 @@ class ScanMatchingSlam : public LocalSlam {
   const Counters& counters() const { return counters_; }
 
  private:
-  // `scatter`: NormalScatter of the scan's surfaces, without small objects (the corridor test).
-  Rigid2d Match(const std::vector<Eigen::Vector2f>& points, const Eigen::Matrix2d& scatter,
-                const Rigid2d& predicted);
+  // `points` in beam order: the corridor test (NormalScatter) takes normals from neighbours.
+  Rigid2d Match(const std::vector<Eigen::Vector2f>& points, const Rigid2d& predicted);
   bool ShouldInsert(const Rigid2d& pose, double timestamp) const;
   // After a graph optimisation: re-derives every scan's corrected pose.
   void ApplyCorrections();
