@@ -87,7 +87,7 @@ bool ScanMatchingSlam::AddScan(const LaserScan& scan, std::string* error) {
   // match: another robot driving ahead faces the follower scan after scan at the same distance,
   // and in a plain corridor its back alone made the direction along it look observed, so the
   // follower stopped (east_end seeds 23 and 25: 3.2 and 3.8 m short); robots coming head-on
-  // pushed the other way (robot2 0.5-0.6 m ahead on seeds 21-24).
+  // pushed the other way (robot2 0.5-0.7 m ahead on seeds 21-28).
   const LaserScan still = WithoutReturns(scan, options_.max_range, local_map_.Moved(points, predicted));
   const std::vector<Eigen::Vector2f> thinned = ReturnsInsideHorizon(
       ThinBeams(still, options_.match_beam_spacing), options_.max_range, options_.match_range_margin);
