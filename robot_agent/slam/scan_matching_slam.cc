@@ -12,18 +12,16 @@
 namespace fleetmap {
 namespace {
 
-// `scan` without the returns (within `max_range`) flagged in `drop`, which lists the returns of
+// `scan` without the returns flagged in `drop`, which lists the returns of
 // RangeFilter(ToPointsInRobotFrame(scan), max_range) in the same order.
 LaserScan WithoutReturns(const LaserScan& scan, float max_range, const std::vector<bool>& drop) {
+  const std::vector<Eigen::Vector2f> returns = ToPointsInRobotFrame(scan);  // one per return beam
   LaserScan kept = scan;
-  size_t k = 0;
-  for (int i = 0; i < scan.size() && k < drop.size(); ++i) {
+  size_t r = 0, k = 0;
+  for (int i = 0; i < scan.size() && r < returns.size(); ++i) {
     if (!scan.IsReturn(i)) continue;
-    const float range = scan.ranges[static_cast<size_t>(i)];
-    const Eigen::Vector2f p =
-        scan.sensor_in_robot * Eigen::Vector2f(range * std::cos(scan.angle(i)), range * std::sin(scan.angle(i)));
-    if (p.squaredNorm() > max_range * max_range) continue;
-    if (drop[k++]) kept.ranges[static_cast<size_t>(i)] = LaserScan::kNoReturn;
+    if (returns[r++].squaredNorm() > max_range * max_range) continue;  // not in RangeFilter's list
+    if (k < drop.size() && drop[k++]) kept.ranges[static_cast<size_t>(i)] = LaserScan::kNoReturn;
   }
   return kept;
 }
