@@ -313,6 +313,7 @@ MergeUpdate MergeEngine::Update() {
   RefreshCanvases(&update);
   ProcessDetections(&update);
   if (ReviewJoins(&update)) ProcessDetections(&update);  // the withdrawn robot's, again
+  ReviewMatchHypotheses(&update);  // before new searches: a local check is cheap
   ProcessCrossMatches(&update);
   ProcessLocalConstraints(&update);
   ProcessLoopClosures(&update);

@@ -87,6 +87,20 @@ struct MergeEngineOptions {
   double whole_map_ambiguity = 0.85;
   double whole_map_min_overlap = 0.5;
   double whole_map_resolution = 0.2;
+  // A submap match (no detection) is also confirmed by another submap of the same robot matching
+  // at the pose it predicts, when the whole-map check then finds nothing as good. Without this a
+  // second match had to pass the global search's gates too, and in the department's east end
+  // every other submap of a robot is ambiguous on its own (its corridors look alike turned
+  // round). The confirming submap must show other walls: at most verify_max_seen_before of its
+  // wall cells may lie where the matched submap saw (two submaps of one room agree on whichever
+  // like room the first matched: the synthetic building joined a robot 41 m off without this).
+  // A match kept as a hypothesis is checked again when either part's map has grown by
+  // review_min_new_submaps finished submaps, at most max_hypothesis_reviews_per_update per
+  // Update(): each costs a whole-map search.
+  bool verify_matches = true;
+  double verify_max_seen_before = 0.5;
+  int review_min_new_submaps = 1;
+  int max_hypothesis_reviews_per_update = 1;
 
   // Work bounds per Update(): global searches are the expensive part.
   int max_global_searches_per_update = 4;
@@ -228,6 +242,12 @@ class MergeEngine {
   void ProcessLoopClosures(MergeUpdate* update);
   void Consider(Hypothesis hypothesis, MergeUpdate* update);
   bool Verify(const Hypothesis& hypothesis, std::vector<RelativeEdge>* edges);
+  // Pending submap-match hypotheses checked again once the maps have grown.
+  void ReviewMatchHypotheses(MergeUpdate* update);
+  // Whether more than verify_max_seen_before of submap `id`'s walls lie on cells that `seen`
+  // (submaps of the same robot) observed.
+  bool MostlySeenBefore(const std::string& robot, int64_t id, const std::set<int64_t>& seen) const;
+  int FinishedSubmaps(const std::string& root) const;
   void Accept(const Hypothesis& hypothesis, const std::vector<RelativeEdge>& extra,
               MergeUpdate* update);
   std::optional<TimedPose> PoseAtTime(const std::string& robot, double time) const;

@@ -91,6 +91,18 @@ void MergeEngine::Consider(Hypothesis h, MergeUpdate* update) {
     Accept(h, edges, update);
     return;
   }
+  if (!h.detection && options_.verify_matches) {
+    h.reviewed_at_submaps = FinishedSubmaps(Root(h.robot_a)) + FinishedSubmaps(Root(h.robot_b));
+    if (Verify(h, &edges)) {
+      const auto ambiguity = WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
+      if (!ambiguity) {
+        h.event.reason += "; confirmed by matching another submap of " + h.robot_b;
+        Accept(h, edges, update);
+        return;
+      }
+      h.event.reason += "; another submap of " + h.robot_b + " matches there too, but " + *ambiguity;
+    }
+  }
   h.event.type = AlignmentEventType::kHypothesis;
   h.event.reason += "; kept as a hypothesis until a second, independent piece of evidence agrees";
   update->events.push_back(h.event);
@@ -103,6 +115,9 @@ bool MergeEngine::Verify(const Hypothesis& h, std::vector<RelativeEdge>* edges) 
   const int64_t used = h.submaps_b.empty() ? 0 : *h.submaps_b.begin();
   for (const auto& [id, submap] : robots_.at(h.robot_b)->submaps) {
     if (h.submaps_b.count(id) || !submap.finished || !graph_.HasNode({h.robot_b, id})) continue;
+    // A detection is evidence of its own; a match is confirmed only by a submap that shows other
+    // walls than the matched one (MergeEngineOptions::verify_max_seen_before).
+    if (!h.detection && MostlySeenBefore(h.robot_b, id, h.submaps_b)) continue;
     candidates.emplace_back(std::abs(id - used), id);
   }
   std::sort(candidates.begin(), candidates.end());
@@ -132,6 +147,33 @@ bool MergeEngine::Verify(const Hypothesis& h, std::vector<RelativeEdge>* edges) 
     return true;
   }
   return false;
+}
+
+bool MergeEngine::MostlySeenBefore(const std::string& robot, int64_t id, const std::set<int64_t>& seen) const {
+  const auto pose = graph_.NodePose({robot, id});
+  if (!pose) return true;
+  const RobotState& state = *robots_.at(robot);
+  // The seen submaps' grids, each with the map from robot frame to grid frame.
+  std::vector<std::pair<const OccupancyGrid*, Rigid2d>> seen_grids;
+  for (int64_t other : seen) {
+    const auto other_pose = graph_.NodePose({robot, other});
+    const auto found = state.submaps.find(other);
+    if (other_pose && found != state.submaps.end()) seen_grids.emplace_back(&found->second.grid, other_pose->inverse());
+  }
+  const std::vector<Eigen::Vector2d> walls =
+      OccupiedPoints(state.submaps.at(id).grid, options_.match.grid.occupied_log_odds, *pose);
+  if (walls.empty()) return true;
+  size_t known = 0;
+  for (const Eigen::Vector2d& p : walls) {
+    for (const auto& [grid, to_grid] : seen_grids) {
+      const CellIndex cell = grid->CellAt(to_grid * p);
+      if (grid->Contains(cell) && grid->IsKnown(cell)) {
+        ++known;
+        break;
+      }
+    }
+  }
+  return static_cast<double>(known) > options_.verify_max_seen_before * static_cast<double>(walls.size());
 }
 
 void MergeEngine::Accept(const Hypothesis& h, const std::vector<RelativeEdge>& extra, MergeUpdate* update) {
@@ -221,6 +263,43 @@ void MergeEngine::ProcessCrossMatches(MergeUpdate* update) {
         Consider(std::move(h), update);
       }
     }
+  }
+}
+
+int MergeEngine::FinishedSubmaps(const std::string& root) const {
+  int n = 0;
+  for (const std::string& m : Members(root)) {
+    for (const auto& [id, submap] : robots_.at(m)->submaps) n += submap.finished;
+  }
+  return n;
+}
+
+void MergeEngine::ReviewMatchHypotheses(MergeUpdate* update) {
+  if (!options_.verify_matches) return;
+  for (int review = 0; review < options_.max_hypothesis_reviews_per_update; ++review) {
+    // The match checked longest ago goes first, so that none waits behind the others.
+    auto next = hypotheses_.end();
+    int next_submaps = 0;
+    for (auto it = hypotheses_.begin(); it != hypotheses_.end(); ++it) {
+      const std::string root_a = Root(it->robot_a), root_b = Root(it->robot_b);
+      if (it->detection || root_a == root_b) continue;
+      const int submaps = FinishedSubmaps(root_a) + FinishedSubmaps(root_b);
+      if (submaps < it->reviewed_at_submaps + options_.review_min_new_submaps) continue;
+      if (next == hypotheses_.end() || it->reviewed_at_submaps < next->reviewed_at_submaps) {
+        next = it;
+        next_submaps = submaps;
+      }
+    }
+    if (next == hypotheses_.end()) return;
+    next->reviewed_at_submaps = next_submaps;
+    std::vector<RelativeEdge> edges;
+    const std::string root_a = Root(next->robot_a), root_b = Root(next->robot_b);
+    if (!Verify(*next, &edges) || WholeMapAmbiguity(root_a, root_b, FrameTransform(*next))) continue;
+    Hypothesis h = std::move(*next);
+    hypotheses_.erase(next);
+    h.event.reason += "; confirmed later by matching another submap of " + h.robot_b +
+                      ", nothing as good over the whole maps";
+    Accept(h, edges, update);
   }
 }
 

@@ -49,6 +49,7 @@ struct MergeEngine::Hypothesis {
   RelativeEdge edge;  // the match as a graph edge, once the components are joined
   std::optional<DetectionEdge> detection_edge;
   AlignmentEvent event;
+  int reviewed_at_submaps = 0;  // finished submaps in both parts when last checked
 };
 
 struct MergeEngine::CachedTarget {

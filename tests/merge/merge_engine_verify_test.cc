@@ -1,0 +1,114 @@
+// A submap match without detections is confirmed by another submap of the same robot matching at
+// the pose it predicts, once the whole-map check finds nothing as good
+// (MergeEngineOptions::verify_matches); a match kept waiting is checked again as the maps grow.
+
+#include <gtest/gtest.h>
+
+#include "map_server/merge/merge_engine.h"
+#include "tests/merge/merge_engine_fixtures.h"
+#include "tests/merge/merge_test_worlds.h"
+#include "tests/support/test_support.h"
+
+namespace fleetmap {
+namespace {
+
+using namespace merge_fixtures;
+using testing::IsNearPose;
+
+bool Confirmed(const MergeUpdate& update, const std::string& how) {
+  for (const AlignmentEvent& e : update.events) {
+    if (e.type == AlignmentEventType::kAlignmentAccepted && e.reason.find(how) != std::string::npos) return true;
+  }
+  return false;
+}
+
+// One global search per Update(): a single match cannot meet a second one in the same update.
+std::unique_ptr<MergeEngine> OneSearchPerUpdate(bool verify_matches, const SimRobot& a, const SimRobot& b) {
+  MergeEngineOptions options;
+  options.max_global_searches_per_update = 1;
+  options.verify_matches = verify_matches;
+  auto engine = std::make_unique<MergeEngine>(options);
+  Feed(testing::OfficeWorld(), a, engine.get());
+  Feed(testing::OfficeWorld(), b, engine.get());
+  return engine;
+}
+
+TEST(MergeEngineVerifyTest, OneMatchConfirmedByAnotherSubmapAtThePredictedPoseJoins) {
+  const SimRobot a = RobotA(), b = RobotB(-2.4);
+  auto engine = OneSearchPerUpdate(true, a, b);
+  const MergeUpdate update = engine->Update();
+  EXPECT_TRUE(Confirmed(update, "confirmed by matching another submap of"));
+  const auto rel = EstimatedRelative(*engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
+}
+
+TEST(MergeEngineVerifyTest, WithoutVerificationOneMatchWaitsForASecondSearch) {
+  const SimRobot a = RobotA(), b = RobotB(-2.4);
+  auto engine = OneSearchPerUpdate(false, a, b);
+  const MergeUpdate update = engine->Update();
+  EXPECT_EQ(Count(update, AlignmentEventType::kAlignmentAccepted), 0);
+  EXPECT_GE(Count(update, AlignmentEventType::kHypothesis), 1);
+  EXPECT_FALSE(EstimatedRelative(*engine, "a", "b"));
+}
+
+// Both robots start in the middle room. Each one's first submap is all the server has of it: a
+// match between them has nothing to be verified with and waits. When their next submaps arrive, the waiting match is checked
+// again (before any search of the new submaps) and joins them.
+TEST(MergeEngineVerifyTest, AWaitingMatchIsCheckedAgainWhenTheMapsGrow) {
+  const SimRobot a{"a", testing::PathThrough({{10.5, 10}, {10, 6}, {6, 6}, {2, 6}}, 0.25), Rigid2d(10.5, 10, 0.3)};
+  const SimRobot b = RobotB(-2.4);
+  SimRobot a_start = a, b_start = b;
+  a_start.path.resize(10);  // one submap each
+  b_start.path.resize(10);
+  MergeEngineOptions options;
+  options.max_global_searches_per_update = 100;
+  MergeEngine engine(options);
+  Feed(testing::OfficeWorld(), a_start, &engine);
+  Feed(testing::OfficeWorld(), b_start, &engine);
+  const MergeUpdate first = engine.Update();
+  EXPECT_GE(Count(first, AlignmentEventType::kHypothesis), 1);
+  ASSERT_FALSE(EstimatedRelative(engine, "a", "b")) << "the case this test is about";
+  Feed(testing::OfficeWorld(), a, &engine);
+  Feed(testing::OfficeWorld(), b, &engine);
+  const MergeUpdate update = engine.Update();
+  EXPECT_TRUE(Confirmed(update, "confirmed later by matching another submap of"));
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel);
+  EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
+}
+
+// Two like offices far apart, a robot turning on the spot in each: each robot's submaps match the
+// other's office, and only the whole building could tell them apart. A second submap of the same
+// walls is the same evidence again: it must not confirm the match.
+TEST(MergeEngineVerifyTest, ASubmapOfTheSameWallsDoesNotConfirmAMatch) {
+  testing::SegmentWorld room = testing::OfficeWorld();
+  testing::SegmentWorld world = room;
+  const Rigid2d apart(60.0, 0.0, 0.0);
+  for (const testing::Segment& s : room) world.push_back({apart * s.a, apart * s.b});
+  std::vector<Rigid2d> tour;  // turning on the spot: two submaps of the same walls
+  for (int i = 0; i < 20; ++i) tour.emplace_back(10.0, 6.0, 0.3 * i);
+  SimRobot a{"a", tour, Rigid2d(10, 6, 0.3)};
+  SimRobot b{"b", {}, apart * Rigid2d(10, 6, -1.2)};
+  for (const Rigid2d& p : tour) b.path.push_back(apart * p);
+  for (const double max_seen_before : {0.5, 1.0}) {
+    MergeEngineOptions options;
+    options.max_global_searches_per_update = 1;
+    options.verify_max_seen_before = max_seen_before;
+    MergeEngine engine(options);
+    Feed(world, a, &engine);
+    Feed(world, b, &engine);
+    engine.Update();
+    if (max_seen_before < 1.0) {
+      EXPECT_FALSE(EstimatedRelative(engine, "a", "b"));
+    } else {
+      // Without the rule the second submap confirms the match: a joined 60 m off.
+      const auto rel = EstimatedRelative(engine, "a", "b");
+      ASSERT_TRUE(rel) << "the case this test is about";
+      EXPECT_GT((TrueRelative(a, b).inverse() * *rel).translation().norm(), 50.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fleetmap
