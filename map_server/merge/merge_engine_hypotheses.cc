@@ -100,7 +100,8 @@ void MergeEngine::Consider(Hypothesis h, MergeUpdate* update) {
         Accept(h, edges, update);
         return;
       }
-      h.event.reason += "; another submap of " + h.robot_b + " matches there too, but " + *ambiguity;
+      h.event.reason +=
+          "; another submap of " + h.robot_b + " matches there too, but " + *ambiguity;
     }
   }
   h.event.type = AlignmentEventType::kHypothesis;
@@ -149,7 +150,8 @@ bool MergeEngine::Verify(const Hypothesis& h, std::vector<RelativeEdge>* edges) 
   return false;
 }
 
-bool MergeEngine::MostlySeenBefore(const std::string& robot, int64_t id, const std::set<int64_t>& seen) const {
+bool MergeEngine::MostlySeenBefore(const std::string& robot, int64_t id,
+                                   const std::set<int64_t>& seen) const {
   const auto pose = graph_.NodePose({robot, id});
   if (!pose) return true;
   const RobotState& state = *robots_.at(robot);
@@ -158,7 +160,8 @@ bool MergeEngine::MostlySeenBefore(const std::string& robot, int64_t id, const s
   for (int64_t other : seen) {
     const auto other_pose = graph_.NodePose({robot, other});
     const auto found = state.submaps.find(other);
-    if (other_pose && found != state.submaps.end()) seen_grids.emplace_back(&found->second.grid, other_pose->inverse());
+    if (other_pose && found != state.submaps.end())
+      seen_grids.emplace_back(&found->second.grid, other_pose->inverse());
   }
   const std::vector<Eigen::Vector2d> walls =
       OccupiedPoints(state.submaps.at(id).grid, options_.match.grid.occupied_log_odds, *pose);
@@ -173,7 +176,8 @@ bool MergeEngine::MostlySeenBefore(const std::string& robot, int64_t id, const s
       }
     }
   }
-  return static_cast<double>(known) > options_.verify_max_seen_before * static_cast<double>(walls.size());
+  return static_cast<double>(known) >
+         options_.verify_max_seen_before * static_cast<double>(walls.size());
 }
 
 void MergeEngine::Accept(const Hypothesis& h, const std::vector<RelativeEdge>& extra, MergeUpdate* update) {
@@ -294,7 +298,8 @@ void MergeEngine::ReviewMatchHypotheses(MergeUpdate* update) {
     next->reviewed_at_submaps = next_submaps;
     std::vector<RelativeEdge> edges;
     const std::string root_a = Root(next->robot_a), root_b = Root(next->robot_b);
-    if (!Verify(*next, &edges) || WholeMapAmbiguity(root_a, root_b, FrameTransform(*next))) continue;
+    if (!Verify(*next, &edges) || WholeMapAmbiguity(root_a, root_b, FrameTransform(*next)))
+      continue;
     Hypothesis h = std::move(*next);
     hypotheses_.erase(next);
     h.event.reason += "; confirmed later by matching another submap of " + h.robot_b +

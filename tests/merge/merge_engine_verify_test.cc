@@ -17,13 +17,15 @@ using testing::IsNearPose;
 
 bool Confirmed(const MergeUpdate& update, const std::string& how) {
   for (const AlignmentEvent& e : update.events) {
-    if (e.type == AlignmentEventType::kAlignmentAccepted && e.reason.find(how) != std::string::npos) return true;
+    if (e.type == AlignmentEventType::kAlignmentAccepted && e.reason.find(how) != std::string::npos)
+      return true;
   }
   return false;
 }
 
 // One global search per Update(): a single match cannot meet a second one in the same update.
-std::unique_ptr<MergeEngine> OneSearchPerUpdate(bool verify_matches, const SimRobot& a, const SimRobot& b) {
+std::unique_ptr<MergeEngine> OneSearchPerUpdate(bool verify_matches, const SimRobot& a,
+                                                const SimRobot& b) {
   MergeEngineOptions options;
   options.max_global_searches_per_update = 1;
   options.verify_matches = verify_matches;
@@ -53,10 +55,11 @@ TEST(MergeEngineVerifyTest, WithoutVerificationOneMatchWaitsForASecondSearch) {
 }
 
 // Both robots start in the middle room. Each one's first submap is all the server has of it: a
-// match between them has nothing to be verified with and waits. When their next submaps arrive, the waiting match is checked
-// again (before any search of the new submaps) and joins them.
+// match between them has nothing to be verified with and waits. When their next submaps arrive, the
+// waiting match is checked again (before any search of the new submaps) and joins them.
 TEST(MergeEngineVerifyTest, AWaitingMatchIsCheckedAgainWhenTheMapsGrow) {
-  const SimRobot a{"a", testing::PathThrough({{10.5, 10}, {10, 6}, {6, 6}, {2, 6}}, 0.25), Rigid2d(10.5, 10, 0.3)};
+  const SimRobot a{"a", testing::PathThrough({{10.5, 10}, {10, 6}, {6, 6}, {2, 6}}, 0.25),
+                   Rigid2d(10.5, 10, 0.3)};
   const SimRobot b = RobotB(-2.4);
   SimRobot a_start = a, b_start = b;
   a_start.path.resize(10);  // one submap each
