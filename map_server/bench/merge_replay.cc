@@ -109,12 +109,13 @@ void PrintStoredVersion(const StoreContents& store, const RunTruth& truth,
   }
   // As ScoreMerge places the engine's map: the global frame is the reference's local frame.
   const Rigid2d& global_in_world = *truth.local_in_world[ref];
+  const WallMask walls = sim::WorldWalls(world);
   std::printf(
       "  live server version %lld (reference %s): map within 1 cell of a wall %.2f %% "
       "(best rigid fit %.2f %%)\n",
       static_cast<long long>(version.version), reference->robot_id.c_str(),
-      100.0 * sim::ScoreAgainstWalls(grid, global_in_world, world).fraction(),
-      100.0 * sim::ScoreAgainstWallsBestFit(grid, global_in_world, world).fraction());
+      100.0 * ScoreOnWalls(grid, global_in_world, walls).fraction(),
+      100.0 * ScoreOnWallsBestFit(grid, global_in_world, walls).fraction());
 }
 
 bool LoadScoringWorld(const std::string& scenario, const std::string& truth_world,

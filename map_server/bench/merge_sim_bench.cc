@@ -274,6 +274,11 @@ int main(int argc, char** argv) {
                  "camera runs at the scenario's camera rate, 5 Hz in the shipped ones)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_option("--detection-sigma", options.detection_sigma,
+                 "metres, standard deviation of the synthetic detections' noise along x and y "
+                 "(the agents' camera + laser detector: 0.8-1.0 cm RMS, docs/BENCHMARKS.md)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--outliers", options.outlier_fraction,
                  "fraction of detections corrupted (moved by 1-5 m in a random direction)")
       ->capture_default_str();

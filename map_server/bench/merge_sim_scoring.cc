@@ -91,9 +91,10 @@ void ScoreMapBounds(const std::map<NodeId, Submap>& submaps, const RunTruth& kno
       local[i].AddSubmap(submap.grid, *known.local_in_world[i] * submap.submap_in_local, 1.0f);
     }
   }
+  const WallMask walls = sim::WorldWalls(world);
   const auto score = [&](const LogOddsCanvas& canvas) {
     if (canvas.empty()) return 0.0;
-    return sim::ScoreAgainstWalls(canvas.ToGrid(defaults.render_grid), Rigid2d(), world).fraction();
+    return ScoreOnWalls(canvas.ToGrid(defaults.render_grid), Rigid2d(), walls).fraction();
   };
   result->map_at_true_anchors = score(at_truth);
   result->map_local_per_robot.clear();
@@ -178,10 +179,10 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::Wor
     if (known.names[i] != reference || !known.local_in_world[i]) continue;
     const auto grid = engine.RenderGlobalMap(std::nullopt, 0.05, error);
     if (!grid) continue;
-    result->map_accuracy =
-        sim::ScoreAgainstWalls(*grid, *known.local_in_world[i], world).fraction();
+    const WallMask walls = sim::WorldWalls(world);
+    result->map_accuracy = ScoreOnWalls(*grid, *known.local_in_world[i], walls).fraction();
     result->map_accuracy_best_fit =
-        sim::ScoreAgainstWallsBestFit(*grid, *known.local_in_world[i], world).fraction();
+        ScoreOnWallsBestFit(*grid, *known.local_in_world[i], walls).fraction();
   }
 }
 

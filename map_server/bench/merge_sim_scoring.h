@@ -35,7 +35,7 @@ struct RunResult {
   double max_translation = 0.0;
   double max_rotation = 0.0;
   double map_accuracy = 0.0;  // the merged map placed by the reference robot's true start
-  // The same at the best rigid placement near that (sim::ScoreAgainstWallsBestFit): the map's
+  // The same at the best rigid placement near that (ScoreOnWallsBestFit): the map's
   // own shape, without how the merge placed the reference robot's first submap.
   double map_accuracy_best_fit = 0.0;
   // What the map figure could be with these submaps (see ScoreMapBounds).

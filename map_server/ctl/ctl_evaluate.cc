@@ -7,8 +7,7 @@
 #include <iomanip>
 #include <iostream>
 
-#include "shared/core/likelihood_field.h"
-#include "shared/eval/map_fit.h"
+#include "shared/eval/wall_score.h"
 #include "shared/io/map_file.h"
 
 namespace fleetmap {
@@ -72,33 +71,6 @@ MergeEvaluation EvaluatePlacements(const std::map<std::string, Rigid2d>& placeme
   return result;
 }
 
-double MapAccuracy(const OccupancyGrid& global_map, const OccupancyGrid& world,
-                   const Rigid2d& world_from_global, double tolerance, long* occupied_cells,
-                   double* best_fit_accuracy) {
-  LikelihoodFieldOptions options;
-  options.max_distance = std::max(1.0, 4 * tolerance);
-  const LikelihoodField walls(world, options);
-  const auto on_wall = [&](const Eigen::Vector2d& p) { return walls.Distance(p) <= tolerance; };
-  std::vector<Eigen::Vector2d> occupied;
-  long near = 0;
-  for (int y = 0; y < global_map.height(); ++y) {
-    for (int x = 0; x < global_map.width(); ++x) {
-      const CellIndex cell(x, y);
-      if (global_map.Probability(cell) <= 0.5f) continue;
-      occupied.push_back(global_map.CellCenter(cell));
-      near += on_wall(world_from_global * occupied.back());
-    }
-  }
-  *occupied_cells = static_cast<long>(occupied.size());
-  if (occupied.empty()) return 0.0;
-  const double n = static_cast<double>(occupied.size());
-  if (best_fit_accuracy) {
-    *best_fit_accuracy =
-        static_cast<double>(FitMapToWalls(occupied, world_from_global, on_wall).on_wall) / n;
-  }
-  return static_cast<double>(near) / n;
-}
-
 int RunEvaluate(const CtlContext& context, const EvaluateOptions& options) {
   std::map<std::string, Rigid2d> truth;
   std::string error;
@@ -131,11 +103,13 @@ int RunEvaluate(const CtlContext& context, const EvaluateOptions& options) {
     }
     const std::string& reference = evaluation.pairs.front().reference;
     const Rigid2d world_from_global = truth.at(reference) * placements.at(reference).inverse();
-    double best_fit = 0.0;
-    evaluation.map_accuracy = MapAccuracy(global_map, world, world_from_global,
-                                          options.tolerance_cells * global_map.resolution(),
-                                          &evaluation.occupied_cells, &best_fit);
-    evaluation.map_accuracy_best_fit = best_fit;
+    // The rule the simulator benchmarks and the end-to-end tests score with (WallMask).
+    const WallMask walls = WallMask::FromTrueMap(world, options.tolerance_cells);
+    const WallScore score = ScoreOnWalls(global_map, world_from_global, walls);
+    evaluation.occupied_cells = static_cast<long>(score.occupied);
+    evaluation.map_accuracy = score.fraction();
+    evaluation.map_accuracy_best_fit =
+        ScoreOnWallsBestFit(global_map, world_from_global, walls).fraction();
   }
 
   double worst_t = 0.0, worst_r = 0.0;

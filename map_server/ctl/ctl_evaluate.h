@@ -20,7 +20,7 @@ struct EvaluateOptions {
   // map (YAML); with both, occupied cells of the global map are scored against the true walls.
   std::string map;
   std::string world;
-  double tolerance_cells = 1.0;  // "within one cell of a true wall"
+  int tolerance_cells = 1;  // "within one cell of a true wall": see WallMask
 };
 
 // How far one robot's placement is from the truth, relative to the reference robot.
@@ -44,13 +44,6 @@ struct MergeEvaluation {
 // world). The first placed robot (in name order) is the reference.
 MergeEvaluation EvaluatePlacements(const std::map<std::string, Rigid2d>& placements,
                                    const std::map<std::string, Rigid2d>& truth);
-// Share of the global map's occupied cells within `tolerance` metres of an occupied world cell,
-// with `world_from_global` mapping global coordinates into the world; with `best_fit_accuracy`,
-// also the share at the best rigid placement near that one (FitMapToWalls).
-double MapAccuracy(const OccupancyGrid& global_map, const OccupancyGrid& world,
-                   const Rigid2d& world_from_global, double tolerance, long* occupied_cells,
-                   double* best_fit_accuracy = nullptr);
-
 // Reads true start poses from a ground-truth YAML; false with `error` on a bad file.
 bool ReadStartPoses(const std::string& path, std::map<std::string, Rigid2d>* starts,
                     std::string* error);

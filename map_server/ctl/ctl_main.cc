@@ -56,8 +56,10 @@ int main(int argc, char** argv) {
   evaluate->add_option("--map", evaluate_options.map, "exported global map (YAML) to score");
   evaluate->add_option("--world", evaluate_options.world, "true world map (YAML)");
   evaluate->add_option("--tolerance-cells", evaluate_options.tolerance_cells,
-                       "wall distance counted as correct, in global-map cells")
-      ->capture_default_str();
+                       "a map cell counts when a true wall cell is its own world cell or within "
+                       "this many cells of it (along x and y)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 10));
 
   CLI11_PARSE(app, argc, argv);
   auto channel = fleetmap::MakeClientChannel(server);

@@ -177,8 +177,8 @@ class MergeE2eTest : public ::testing::Test {
                            &code, &error))
         << error;
     const Rigid2d global_in_world = starts[0] * local_in_global.at(kRobots[0]).inverse();
-    const sim::World& world = simulation_->world();
-    const sim::MapAccuracy score = sim::ScoreAgainstWalls(grid, global_in_world, world);
+    const WallScore score =
+        ScoreOnWalls(grid, global_in_world, sim::WorldWalls(simulation_->world()));
     ASSERT_GT(score.occupied, 500);
     const double accuracy = score.fraction();
     std::printf("merged map: %lld occupied cells, %.2f %% within 1 cell of a true wall\n",

@@ -39,26 +39,6 @@ TEST(CtlEvaluateTest, KnownOffsetIsMeasuredAndUnplacedListed) {
   EXPECT_EQ(e.unplaced[0], "c");
 }
 
-TEST(CtlEvaluateTest, MapAccuracyCountsCellsNearWalls) {
-  OccupancyGridOptions options;
-  options.resolution = 0.05;
-  OccupancyGrid world(options, Eigen::Vector2d(0, 0), 100, 100);
-  for (int i = 0; i < 100; ++i) world.SetLogOdds(CellIndex(i, 50), 4.0f);  // wall at y = 2.525
-  OccupancyGrid global(options, Eigen::Vector2d(0, 0), 100, 100);
-  for (int i = 0; i < 90; ++i) global.SetLogOdds(CellIndex(i, 50), 4.0f);  // on the wall
-  for (int i = 0; i < 10; ++i) global.SetLogOdds(CellIndex(i, 80), 4.0f);  // 1.5 m off
-  long occupied = 0;
-  EXPECT_NEAR(MapAccuracy(global, world, Rigid2d(), 0.05, &occupied), 0.9, 1e-9);
-  EXPECT_EQ(occupied, 100);
-  // Shifting the global frame by 1 m in y puts the "on the wall" cells off it.
-  EXPECT_NEAR(MapAccuracy(global, world, Rigid2d(0, 1.0, 0), 0.05, &occupied), 0.0, 1e-9);
-  // Shifted by 0.12 m, the best rigid placement nearby puts them back on it.
-  double best_fit = 0.0;
-  EXPECT_NEAR(MapAccuracy(global, world, Rigid2d(0, 0.12, 0), 0.05, &occupied, &best_fit), 0.0,
-              1e-9);
-  EXPECT_NEAR(best_fit, 0.9, 1e-9);
-}
-
 TEST(CtlEvaluateTest, BadGroundTruthFilesAreErrors) {
   const std::string dir = testing::MakeTempDir("fleetmap-evaluate");
   std::map<std::string, Rigid2d> starts;

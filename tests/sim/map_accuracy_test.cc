@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include "robot_agent/sim/world_builder.h"
+#include "robot_agent/sim/world_io.h"
+#include "shared/io/map_file.h"
+#include "tests/support/test_support.h"
 
 namespace fleetmap::sim {
 namespace {
@@ -22,15 +25,15 @@ TEST(MapAccuracyTest, CountsOccupiedCellsWithinOneCellOfAWall) {
   map.SetLogOdds(map.CellAt({0.52, 1.0}), 2.0f);  // one cell inside the room: still within 1 cell
   map.SetLogOdds(map.CellAt({2.0, 1.5}), 2.0f);   // in the middle of the room
   map.SetLogOdds(map.CellAt({2.0, 1.0}), -2.0f);  // free: not scored
-  const MapAccuracy exact = ScoreAgainstWalls(map, Rigid2d(), world);
+  const WallScore exact = ScoreOnWalls(map, Rigid2d(), WorldWalls(world));
   EXPECT_EQ(exact.occupied, 3);
   EXPECT_EQ(exact.near_wall, 2);
   EXPECT_NEAR(exact.fraction(), 2.0 / 3.0, 1e-12);
 
-  const MapAccuracy moved = ScoreAgainstWalls(map, Rigid2d(1.0, 0.0, 0.0), world);
+  const WallScore moved = ScoreOnWalls(map, Rigid2d(1.0, 0.0, 0.0), WorldWalls(world));
   EXPECT_EQ(moved.occupied, 3);
   EXPECT_EQ(moved.near_wall, 0);
-  EXPECT_EQ(MapAccuracy().fraction(), 0.0);
+  EXPECT_EQ(WallScore().fraction(), 0.0);
 }
 
 // Thin walls in an open hall, and a map of them whose frame is 0.17 m and 0.25 degrees off the
@@ -54,17 +57,45 @@ TEST(MapAccuracyTest, BestFitFindsThePlacementOfAShiftedMap) {
       }
     }
   }
-  EXPECT_LT(ScoreAgainstWalls(map, Rigid2d(), world).fraction(), 0.3);
+  const WallMask world_walls = WorldWalls(world);
+  EXPECT_LT(ScoreOnWalls(map, Rigid2d(), world_walls).fraction(), 0.3);
   Rigid2d best;
-  const MapAccuracy fitted = ScoreAgainstWallsBestFit(map, Rigid2d(), world, &best);
+  const WallScore fitted = ScoreOnWallsBestFit(map, Rigid2d(), world_walls, &best);
   EXPECT_GT(fitted.fraction(), 0.99);
   // Within one cell every placement near the true one scores alike; the best found is one of
   // them, and scores the same by the plain rule.
   EXPECT_NEAR(best.translation().x(), 0.14, 0.1);
   EXPECT_NEAR(best.translation().y(), -0.1, 0.1);
-  const MapAccuracy again = ScoreAgainstWalls(map, best, world);
+  const WallScore again = ScoreOnWalls(map, best, world_walls);
   EXPECT_EQ(again.near_wall, fitted.near_wall);
   EXPECT_EQ(again.occupied, fitted.occupied);
+}
+
+// The benchmarks score against the simulator's world in memory, `fleetmapctl evaluate` against
+// the world's PGM as the simulator writes it: both read the same walls, every point alike.
+TEST(MapAccuracyTest, TheWorldAndItsFileHaveTheSameWalls) {
+  WorldBuilder builder("office", 0.05, Eigen::Vector2d(6.0, 4.0));
+  builder.Carve({0.5, 0.5}, {5.5, 3.5});
+  builder.Fill({2.0, 0.5}, {2.1, 2.5});
+  const World world = builder.Build();
+  const std::string dir = testing::MakeTempDir("fleetmap-walls");
+  std::string error;
+  ASSERT_TRUE(SaveWorld(dir, world, &error)) << error;
+  OccupancyGrid read;
+  ASSERT_TRUE(ReadMap(dir + "/office.yaml", &read, &error)) << error;
+  for (const int reach : {1, 2}) {
+    const WallMask in_memory = WorldWalls(world, reach);
+    const WallMask from_file = WallMask::FromTrueMap(read, reach);
+    int near = 0;
+    for (double y = -0.3; y < 4.3; y += 0.0173) {
+      for (double x = -0.3; x < 6.3; x += 0.0173) {
+        const Eigen::Vector2d p(x, y);
+        ASSERT_EQ(in_memory.NearWall(p), from_file.NearWall(p)) << x << " " << y;
+        near += in_memory.NearWall(p);
+      }
+    }
+    EXPECT_GT(near, 1000);
+  }
 }
 
 }  // namespace
