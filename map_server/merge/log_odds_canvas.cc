@@ -11,6 +11,22 @@ constexpr float kZero = 1e-4f;  // sums this small are add/subtract round-off: u
 
 int FloorDiv(int v, int block) { return static_cast<int>(std::floor(static_cast<double>(v) / block)) * block; }
 
+// Narrows [*first, *last] to the steps t of the line b + a * t that fall within [0, size),
+// widened by one step on each side (the caller still checks every cell); *first > *last when
+// none does.
+void ClipLine(double b, double a, double size, int* first, int* last) {
+  if (std::abs(a) < 1e-12) {
+    if (b < 0.0 || b >= size) *first = *last + 1;
+    return;
+  }
+  double t0 = (0.0 - b) / a, t1 = (size - b) / a;
+  if (t0 > t1) std::swap(t0, t1);
+  // Clamped in doubles first: a nearly flat line puts t0 and t1 beyond any int.
+  const double lo = *first, hi = *last;
+  *first = static_cast<int>(std::clamp(std::floor(t0) - 1.0, lo, hi + 1.0));
+  *last = static_cast<int>(std::clamp(std::ceil(t1) + 1.0, lo - 1.0, hi));
+}
+
 }  // namespace
 
 float LogOddsCanvas::Sum(int i, int j) const {
@@ -48,20 +64,31 @@ void LogOddsCanvas::GrowToInclude(const Eigen::Array2i& lo, const Eigen::Array2i
   sums_ = std::move(sums);
 }
 
-std::optional<Box2d> PlacedBounds(const OccupancyGrid& submap, const Rigid2d& submap_to_frame) {
+std::optional<Box2d> KnownBox(const OccupancyGrid& grid) {
   CellIndex lo, hi;
-  if (!submap.KnownBounds(&lo, &hi)) return std::nullopt;
-  const double r = submap.resolution();
-  const Eigen::Vector2d a = submap.origin() + r * lo.cast<double>().matrix();
-  const Eigen::Vector2d b = submap.origin() + r * (hi + 1).cast<double>().matrix();
-  Box2d box{Eigen::Vector2d::Constant(1e300), Eigen::Vector2d::Constant(-1e300)};
+  if (!grid.KnownBounds(&lo, &hi)) return std::nullopt;
+  const double r = grid.resolution();
+  return Box2d{grid.origin() + r * lo.cast<double>().matrix(),
+               grid.origin() + r * (hi + 1).cast<double>().matrix()};
+}
+
+Box2d PlaceBox(const Box2d& box, const Rigid2d& box_to_frame) {
+  const Eigen::Vector2d& a = box.min;
+  const Eigen::Vector2d& b = box.max;
+  Box2d placed{Eigen::Vector2d::Constant(1e300), Eigen::Vector2d::Constant(-1e300)};
   for (const Eigen::Vector2d& corner :
        {a, b, Eigen::Vector2d(a.x(), b.y()), Eigen::Vector2d(b.x(), a.y())}) {
-    const Eigen::Vector2d p = submap_to_frame * corner;
-    box.min = box.min.cwiseMin(p);
-    box.max = box.max.cwiseMax(p);
+    const Eigen::Vector2d p = box_to_frame * corner;
+    placed.min = placed.min.cwiseMin(p);
+    placed.max = placed.max.cwiseMax(p);
   }
-  return box;
+  return placed;
+}
+
+std::optional<Box2d> PlacedBounds(const OccupancyGrid& submap, const Rigid2d& submap_to_frame) {
+  const std::optional<Box2d> box = KnownBox(submap);
+  if (!box) return std::nullopt;
+  return PlaceBox(*box, submap_to_frame);
 }
 
 void LogOddsCanvas::AddSubmap(const OccupancyGrid& submap, const Rigid2d& submap_to_frame,
@@ -73,29 +100,47 @@ void LogOddsCanvas::AddSubmap(const OccupancyGrid& submap, const Rigid2d& submap
   GrowToInclude(lo, hi);
   // Supersample so that no submap cell is skipped when the canvas is coarser than the submap.
   const int samples = std::max(1, static_cast<int>(std::ceil(resolution_ / submap.resolution() - 1e-9)));
+  // A canvas point (i + u, j + v) * resolution lands on submap cell floor(q), with
+  // q = step * (i + u, j + v) + offset: linear in i, so each row is a start and a stride.
   const Rigid2d frame_to_submap = submap_to_frame.inverse();
-  const Eigen::Matrix2d rot = frame_to_submap.rotation_matrix();
   const double inv_res = 1.0 / submap.resolution();
+  const Eigen::Matrix2d step = frame_to_submap.rotation_matrix() * (resolution_ * inv_res);
+  const Eigen::Vector2d offset = (frame_to_submap.translation() - submap.origin()) * inv_res;
   const std::vector<float>& cells = submap.log_odds();
+  const int w = submap.width(), h = submap.height();
+  std::vector<Eigen::Vector2d> starts(static_cast<size_t>(samples) * samples);
   for (int j = lo.y(); j <= hi.y(); ++j) {
-    for (int i = lo.x(); i <= hi.x(); ++i) {
-      float most = 0.0f, least = 0.0f;
-      for (int sy = 0; sy < samples; ++sy) {
-        for (int sx = 0; sx < samples; ++sx) {
-          const Eigen::Vector2d p((i + (sx + 0.5) / samples) * resolution_,
-                                  (j + (sy + 0.5) / samples) * resolution_);
-          const Eigen::Vector2d q = (rot * p + frame_to_submap.translation() - submap.origin()) * inv_res;
-          const int cx = static_cast<int>(std::floor(q.x())), cy = static_cast<int>(std::floor(q.y()));
-          if (cx < 0 || cy < 0 || cx >= submap.width() || cy >= submap.height()) continue;
-          const float v = cells[static_cast<size_t>(cy) * submap.width() + cx];
-          most = std::max(most, v);
-          least = std::min(least, v);
+    // Each sample's submap coordinates at i = lo.x(), and the canvas cells of this row that
+    // can reach the submap at all.
+    int first = 0, last = hi.x() - lo.x();
+    int row_first = last + 1, row_last = -1;
+    for (int sy = 0; sy < samples; ++sy) {
+      for (int sx = 0; sx < samples; ++sx) {
+        const Eigen::Vector2d& q0 = starts[static_cast<size_t>(sy) * samples + sx] =
+            step * Eigen::Vector2d(lo.x() + (sx + 0.5) / samples, j + (sy + 0.5) / samples) +
+            offset;
+        int a = first, b = last;
+        ClipLine(q0.x(), step(0, 0), w, &a, &b);
+        ClipLine(q0.y(), step(1, 0), h, &a, &b);
+        if (a <= b) {
+          row_first = std::min(row_first, a);
+          row_last = std::max(row_last, b);
         }
       }
-      const float value = most > 0.0f ? most : least;
-      if (value != 0.0f) {
-        sums_[static_cast<size_t>(j - min_cell_.y()) * width_ + (i - min_cell_.x())] += weight * value;
+    }
+    float* row = &sums_[static_cast<size_t>(j - min_cell_.y()) * width_ + (lo.x() - min_cell_.x())];
+    for (int t = row_first; t <= row_last; ++t) {
+      float most = 0.0f, least = 0.0f;
+      for (const Eigen::Vector2d& q0 : starts) {
+        const double qx = q0.x() + step(0, 0) * t, qy = q0.y() + step(1, 0) * t;
+        const int cx = static_cast<int>(std::floor(qx)), cy = static_cast<int>(std::floor(qy));
+        if (cx < 0 || cy < 0 || cx >= w || cy >= h) continue;
+        const float v = cells[static_cast<size_t>(cy) * w + cx];
+        most = std::max(most, v);
+        least = std::min(least, v);
       }
+      const float value = most > 0.0f ? most : least;
+      if (value != 0.0f) row[t] += weight * value;
     }
   }
 }

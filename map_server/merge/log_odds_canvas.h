@@ -58,6 +58,10 @@ class LogOddsCanvas {
   std::vector<float> sums_;
 };
 
+// The box of a grid's observed cells in its own frame (a pass over the grid).
+std::optional<Box2d> KnownBox(const OccupancyGrid& grid);
+// The axis-aligned box round `box` once placed at `box_to_frame`.
+Box2d PlaceBox(const Box2d& box, const Rigid2d& box_to_frame);
 // The bounding box of a submap's observed cells once placed at `submap_to_frame`.
 std::optional<Box2d> PlacedBounds(const OccupancyGrid& submap, const Rigid2d& submap_to_frame);
 // Grows `region` (empty: none yet) to cover `box` (empty: nothing).

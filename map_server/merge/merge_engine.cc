@@ -79,6 +79,7 @@ bool MergeEngine::AddOrUpdateSubmap(const Submap& submap, std::string* error) {
     }
   }
   robot.submaps[submap.submap_id] = submap;
+  robot.known_boxes[submap.submap_id] = KnownBox(submap.grid);
   robot.sources.erase(submap.submap_id);
   if (submap.finished && !submap.scan_poses.empty()) {
     // Detections near this submap's time whose search failed may succeed with it.
@@ -292,14 +293,14 @@ void MergeEngine::RefreshCanvases(MergeUpdate* update) {
             Displacement(submap.grid, rendered->second.pose, *pose) < threshold) {
           continue;
         }
-        if (placed) Include(&update->changed_region, PlacedBounds(submap.grid, rendered->second.pose));
+        if (placed) Include(&update->changed_region, robot->SubmapBounds(id, rendered->second.pose));
         robot->canvas.AddSubmap(submap.grid, rendered->second.pose, -1.0f);
       }
       robot->canvas.AddSubmap(submap.grid, *pose, 1.0f);
       robot->rendered[id] = {*pose, submap.revision};
       ++robot->canvas_version;
       if (placed) {
-        Include(&update->changed_region, PlacedBounds(submap.grid, *pose));
+        Include(&update->changed_region, robot->SubmapBounds(id, *pose));
         update->moved_submaps.push_back({robot_id, id});
         update->graph_changed = true;
       }

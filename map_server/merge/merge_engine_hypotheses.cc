@@ -318,7 +318,7 @@ void MergeEngine::ProcessLocalConstraints(MergeUpdate* update) {
       if (!pose) continue;
       if (budget-- <= 0) return;
       robot->local_queue.erase(id);
-      const auto bounds = PlacedBounds(robot->submaps.at(id).grid, *pose);
+      const auto bounds = robot->SubmapBounds(id, *pose);
       if (!bounds) continue;
       const auto target = CroppedTarget(Root(robot_id), robot_id, Grow(*bounds, 1.0));
       if (target->empty()) continue;

@@ -25,7 +25,7 @@ void MergeEngine::ProcessLoopClosures(MergeUpdate* update) {
       if (!pose) continue;
       if (budget-- <= 0) return;
       robot->loop_queue.erase(id);
-      const auto bounds = PlacedBounds(robot->submaps.at(id).grid, *pose);
+      const auto bounds = robot->SubmapBounds(id, *pose);
       if (!bounds) continue;
       Box2d box = *bounds;
       box.min.array() -= 1.0;
@@ -34,11 +34,12 @@ void MergeEngine::ProcessLoopClosures(MergeUpdate* update) {
       // ties to this one) rendered around the new submap.
       // Only the few nearest, so the cost stays bounded however often the robot came back.
       std::vector<std::pair<double, int64_t>> near;
-      for (const auto& [old_id, old] : robot->submaps) {
+      for (const auto& [old_id, old_box] : robot->known_boxes) {
         if (old_id > id - options_.loop_min_id_gap) break;
         const auto old_pose = graph_.NodePose({robot_id, old_id});
-        const auto old_bounds = old_pose ? PlacedBounds(old.grid, *old_pose) : std::nullopt;
-        if (!old_bounds || !Overlaps(*old_bounds, box)) continue;
+        if (!old_pose || !old_box) continue;
+        const Box2d old_bounds = PlaceBox(*old_box, *old_pose);
+        if (!Overlaps(old_bounds, box)) continue;
         near.emplace_back((old_pose->translation() - pose->translation()).norm(), old_id);
       }
       std::sort(near.begin(), near.end());

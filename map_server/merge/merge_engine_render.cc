@@ -51,7 +51,7 @@ std::optional<OccupancyGrid> MergeEngine::RenderGlobalMap(const std::optional<Bo
     const RobotState& state = *robots_.at(robot);
     for (const auto& [id, submap] : state.submaps) {
       const auto pose = graph_.NodePose({robot, id});
-      const auto bounds = pose ? PlacedBounds(submap.grid, *pose) : std::nullopt;
+      const auto bounds = pose ? state.SubmapBounds(id, *pose) : std::nullopt;
       if (!bounds || (bounds->max.array() < extent->min.array()).any() ||
           (bounds->min.array() > extent->max.array()).any()) {
         continue;

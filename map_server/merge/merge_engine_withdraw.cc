@@ -68,7 +68,7 @@ void MergeEngine::Withdraw(const std::string& robot, const DetectionVotes& votes
   if (IsPlaced(robot)) {
     // The robot leaves the global map: where it was rendered must be drawn again.
     for (const auto& [id, rendered] : state.rendered) {
-      Include(&update->changed_region, PlacedBounds(state.submaps.at(id).grid, rendered.pose));
+      Include(&update->changed_region, state.SubmapBounds(id, rendered.pose));
     }
     update->graph_changed = true;
   }

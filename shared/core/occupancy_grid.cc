@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
 
 namespace fleetmap {
 namespace {
@@ -159,13 +160,21 @@ void OccupancyGrid::InsertScan(const LaserScan& scan, const Rigid2d& robot_in_ma
 }
 
 bool OccupancyGrid::KnownBounds(CellIndex* min_cell, CellIndex* max_cell) const {
+  // Per row only the first and last known cells matter: searching from both ends stops at the
+  // first hit, so a submap whose rows are known near their ends costs little more than a pass
+  // over its rows (this runs for every submap the merge engine renders).
   CellIndex lo(width_, height_), hi(-1, -1);
+  const auto known = [](float v) { return v != 0.0f; };
   for (int y = 0; y < height_; ++y) {
-    for (int x = 0; x < width_; ++x) {
-      if (cells_[static_cast<size_t>(y * width_ + x)] == 0.0f) continue;
-      lo = lo.min(CellIndex(x, y));
-      hi = hi.max(CellIndex(x, y));
-    }
+    const float* row = cells_.data() + static_cast<size_t>(y) * width_;
+    const float* first = std::find_if(row, row + width_, known);
+    if (first == row + width_) continue;
+    const float* last = std::find_if(std::make_reverse_iterator(row + width_),
+                                     std::make_reverse_iterator(first), known)
+                            .base() -
+                        1;
+    lo = lo.min(CellIndex(static_cast<int>(first - row), y));
+    hi = hi.max(CellIndex(static_cast<int>(last - row), y));
   }
   if (hi.x() < 0) return false;
   *min_cell = lo;

@@ -35,6 +35,32 @@ TEST(OccupancyGridTest, GrowsKeepingContent) {
   EXPECT_NEAR(grid.CellCenter(hi).x(), 30.0, 0.05);
 }
 
+// Each bound comes from a different row and cell: the leftmost and rightmost known cells of
+// rows whose other cells are unknown, and a row with a single known cell in its middle.
+TEST(OccupancyGridTest, KnownBoundsTakeEveryRowsFirstAndLastKnownCell) {
+  OccupancyGridOptions options;
+  options.resolution = 1.0;
+  OccupancyGrid grid(options, Eigen::Vector2d(0, 0), 20, 10);
+  grid.SetLogOdds(CellIndex(7, 2), 1.0f);
+  grid.SetLogOdds(CellIndex(3, 5), -1.0f);
+  grid.SetLogOdds(CellIndex(9, 5), 1.0f);
+  grid.SetLogOdds(CellIndex(16, 6), 1.0f);
+  grid.SetLogOdds(CellIndex(10, 8), 1.0f);
+  CellIndex lo, hi;
+  ASSERT_TRUE(grid.KnownBounds(&lo, &hi));
+  EXPECT_EQ(lo.x(), 3);
+  EXPECT_EQ(lo.y(), 2);
+  EXPECT_EQ(hi.x(), 16);
+  EXPECT_EQ(hi.y(), 8);
+  grid.SetLogOdds(CellIndex(0, 9), 1.0f);
+  grid.SetLogOdds(CellIndex(19, 0), 1.0f);
+  ASSERT_TRUE(grid.KnownBounds(&lo, &hi));
+  EXPECT_EQ(lo.x(), 0);
+  EXPECT_EQ(lo.y(), 0);
+  EXPECT_EQ(hi.x(), 19);
+  EXPECT_EQ(hi.y(), 9);
+}
+
 TEST(OccupancyGridTest, EmptyGridHasNoKnownBounds) {
   OccupancyGrid grid;
   CellIndex lo, hi;

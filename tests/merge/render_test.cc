@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+#include <random>
+
 #include "map_server/merge/merge_engine.h"
 #include "map_server/merge/trajectory_lookup.h"
 #include "tests/support/test_support.h"
@@ -52,6 +56,50 @@ TEST(RenderTest, SubtractingASubmapRestoresTheCanvas) {
   CellIndex lo, hi;
   ASSERT_TRUE(grid.KnownBounds(&lo, &hi));
   EXPECT_EQ((hi - lo).y(), 0);  // only row 0 of the unmoved copy is left
+}
+
+// Every canvas cell against the rule written out cell by cell (each canvas cell's samples
+// looked up in the submap): any wall wins, else the freest value. Random submaps at random
+// poses, canvases as fine as, coarser than and finer than the submap.
+TEST(RenderTest, AddSubmapMatchesTheCellByCellRule) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int trial = 0; trial < 12; ++trial) {
+    OccupancyGrid submap(OccupancyGridOptions(), Eigen::Vector2d(-0.4, 0.3), 23, 17);
+    for (int y = 0; y < 17; ++y) {
+      for (int x = 0; x < 23; ++x) {
+        const double u = uniform(rng);
+        if (std::abs(u) > 0.3) submap.SetLogOdds(CellIndex(x, y), static_cast<float>(2.0 * u));
+      }
+    }
+    const Rigid2d pose(3.0 * uniform(rng), 3.0 * uniform(rng), M_PI * uniform(rng));
+    const double resolution = std::array<double, 3>{0.05, 0.1, 0.03}[trial % 3];
+    LogOddsCanvas canvas(resolution);
+    canvas.AddSubmap(submap, pose, 1.0f);
+    const OccupancyGrid grid = canvas.ToGrid(OccupancyGridOptions());
+    const int samples = std::max(1, static_cast<int>(std::ceil(resolution / 0.05 - 1e-9)));
+    int known = 0;
+    for (int y = -5; y < grid.height() + 5; ++y) {
+      for (int x = -5; x < grid.width() + 5; ++x) {
+        const Eigen::Vector2d corner = grid.origin() + resolution * Eigen::Vector2d(x, y);
+        float most = 0.0f, least = 0.0f;
+        for (int sy = 0; sy < samples; ++sy) {
+          for (int sx = 0; sx < samples; ++sx) {
+            const Eigen::Vector2d p =
+                corner + resolution * Eigen::Vector2d((sx + 0.5) / samples, (sy + 0.5) / samples);
+            const float v = submap.LogOdds(submap.CellAt(pose.inverse() * p));
+            most = std::max(most, v);
+            least = std::min(least, v);
+          }
+        }
+        const float expected = most > 0.0f ? most : least;
+        known += expected != 0.0f;
+        ASSERT_NEAR(grid.LogOdds(CellIndex(x, y)), expected, 1e-6)
+            << "trial " << trial << " cell " << x << " " << y;
+      }
+    }
+    EXPECT_GT(known, 100) << "trial " << trial;
+  }
 }
 
 TEST(TrajectoryLookupTest, InterpolatesAndRefusesToExtrapolate) {

@@ -18,6 +18,14 @@ namespace fleetmap {
 struct MergeEngine::RobotState {
   explicit RobotState(double resolution) : canvas(resolution) {}
   std::map<int64_t, Submap> submaps;
+  // Each submap's observed cells as a box in its own frame (KnownBox), kept so that placing a
+  // submap does not scan its grid again: the engine places every submap several times per
+  // update.
+  std::map<int64_t, std::optional<Box2d>> known_boxes;
+  std::optional<Box2d> SubmapBounds(int64_t id, const Rigid2d& submap_to_frame) const {
+    const std::optional<Box2d>& box = known_boxes.at(id);
+    return box ? std::optional<Box2d>(PlaceBox(*box, submap_to_frame)) : std::nullopt;
+  }
   Trajectory trajectory;
   std::optional<NodeId> fixed_node;           // set while this robot roots its component
   int64_t joined_at = 0;                      // when it last joined another component (0: never)
