@@ -105,17 +105,29 @@ class MergeE2eTest : public ::testing::Test {
   }
 
   // GetRobots until every robot is placed (and has all its submaps), or the timeout.
+  // Every robot placed and no new version for 2 s: the agents' outboxes are drained before this
+  // is called, so the worker has then folded in all they sent and the map checked is the final
+  // one, as the demo's launcher scores it.
   bool WaitAllPlaced(double seconds, v1::GetRobotsResponse* robots) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < deadline) {
+    const auto now = [] { return std::chrono::steady_clock::now(); };
+    const auto deadline = now() + std::chrono::duration<double>(seconds);
+    int64_t version = -1;
+    auto unchanged_since = now();
+    while (now() < deadline) {
       grpc::ClientContext context;
       context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
       v1::GetRobotsRequest request;
       robots->Clear();
+      bool all = false;
       if (stub_->GetRobots(&context, request, robots).ok() && robots->robots_size() == 3) {
-        bool all = true;
+        all = true;
         for (const auto& r : robots->robots()) all = all && r.placement().placed();
-        if (all) return true;
+      }
+      if (!all || robots->latest_version() != version) {
+        version = all ? robots->latest_version() : -1;
+        unchanged_since = now();
+      } else if (now() - unchanged_since >= std::chrono::seconds(2)) {
+        return true;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(300));
     }
