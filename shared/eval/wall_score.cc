@@ -1,5 +1,6 @@
 #include "shared/eval/wall_score.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "shared/eval/map_fit.h"

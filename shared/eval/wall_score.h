@@ -25,7 +25,6 @@ class WallMask {
   static WallMask FromTrueMap(const OccupancyGrid& truth, int reach = 1);
 
   bool NearWall(const Eigen::Vector2d& point) const;
-  double resolution() const { return resolution_; }
 
  private:
   Eigen::Vector2d origin_;
