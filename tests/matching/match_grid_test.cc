@@ -170,6 +170,77 @@ TEST(MatchGridTest, AbsurdPointsAreIgnoredNotAllocated) {
   EXPECT_LT(grid.width(), 1000);
 }
 
+// One wall sampled once per cell at height `y`, as a scan from `origin` sees it (points in the
+// scan's frame, which here is the map's frame turned by nothing).
+struct WallView {
+  std::vector<Eigen::Vector2f> points;
+  Rigid2d origin;
+};
+WallView ViewOfWall(double y, const Eigen::Vector2d& origin) {
+  WallView view;
+  view.origin = Rigid2d(origin, 0.0);
+  for (double x = -1.0; x <= 1.0; x += 0.05) {
+    view.points.emplace_back(static_cast<float>(x + 0.025 - origin.x()),
+                             static_cast<float>(y - origin.y()));
+  }
+  return view;
+}
+
+// Whether two grids hold the same squared distances in every cell (same origin and size).
+void ExpectSameField(const MatchGrid& a, const MatchGrid& b) {
+  ASSERT_EQ(a.width(), b.width());
+  ASSERT_EQ(a.height(), b.height());
+  ASSERT_TRUE(a.origin().isApprox(b.origin()));
+  int differing = 0;
+  for (int y = 0; y < a.height(); ++y) {
+    for (int x = 0; x < a.width(); ++x) {
+      differing += std::abs(a.CellSquaredDistance(x, y) - b.CellSquaredDistance(x, y)) > 1e-7f;
+    }
+  }
+  EXPECT_EQ(differing, 0);
+}
+
+// The same wall seen from 9 m, then from 1 m, 1 cm away (the far scan's pose was a little off):
+// with nearer_view_ratio the near view replaces every far piece, and the field is the one the
+// near view alone gives; without it the far view's pieces stay. Seen the other way round, the far
+// view changes nothing.
+TEST(MatchGridTest, ANearerViewReplacesTheFarPieces) {
+  const WallView far = ViewOfWall(1.02, Eigen::Vector2d(0.0, -8.0));
+  const WallView near = ViewOfWall(1.03, Eigen::Vector2d(0.0, 0.0));
+  MatchGridOptions options;
+  options.nearer_view_ratio = 0.5;
+  MatchGrid far_then_near(options), near_then_far(options), near_only(options);
+  far_then_near.AddPoints(far.points, far.origin);
+  far_then_near.AddPoints(near.points, near.origin);
+  near_then_far.AddPoints(near.points, near.origin);
+  near_then_far.AddPoints(far.points, far.origin);
+  near_only.AddPoints(near.points, near.origin);
+  ExpectSameField(far_then_near, near_only);
+  ExpectSameField(near_then_far, near_only);
+  EXPECT_EQ(far_then_near.obstacle_count(), near_only.obstacle_count());
+  EXPECT_NEAR(far_then_near.Distance(Eigen::Vector2d(0.3, 1.03)), 0.0, 1e-3);
+
+  MatchGrid first_wins, far_only;  // nearer_view_ratio 0
+  first_wins.AddPoints(far.points, far.origin);
+  first_wins.AddPoints(near.points, near.origin);
+  far_only.AddPoints(far.points, far.origin);
+  ExpectSameField(first_wins, far_only);
+}
+
+// A view only a little nearer (9 m against 10 m) does not replace: pieces are not churned by
+// every scan of a robot driving towards a wall.
+TEST(MatchGridTest, AViewOnlyALittleNearerKeepsTheFirstPieces) {
+  const WallView first = ViewOfWall(1.02, Eigen::Vector2d(0.0, -9.0));
+  const WallView second = ViewOfWall(1.03, Eigen::Vector2d(0.0, -8.0));
+  MatchGridOptions options;
+  options.nearer_view_ratio = 0.5;
+  MatchGrid both(options), first_only(options);
+  both.AddPoints(first.points, first.origin);
+  both.AddPoints(second.points, second.origin);
+  first_only.AddPoints(first.points, first.origin);
+  ExpectSameField(both, first_only);
+}
+
 TEST(MatchGridTest, AgreesWithTheCoreLikelihoodField) {
   std::vector<Eigen::Vector2d> points;
   for (double x = 0.0; x <= 3.0; x += 0.05) points.emplace_back(x + 0.025, 1.025);
