@@ -25,10 +25,6 @@ ScanMatchingSlamOptions ParticleSlamOptions::DefaultTracker() {
   ScanMatchingSlamOptions options;
   options.build_submaps = false;
   options.loop_closure.enabled = false;
-  // The particle backends' figures (issue 5) were measured with each cell keeping its first wall
-  // piece; nearer views replacing them (the scan-matching backend's default since issue 8,
-  // session 19) have not been measured with the filters.
-  options.local_map.grid.nearer_view_ratio = 0.0;
   return options;
 }
 

@@ -162,18 +162,12 @@ TEST(ScanMatchingSlamTest, TurningPastBoxesKeepsTheHeading) {
 // pulled each match with a sizeable share of their weight under the wide robust loss, turning it
 // by up to 0.3 deg, and the rolling local map kept those turns (department_lab1_lab2_lab1 with
 // exact data: heading 0.28 deg off on average). Each match is refined again with a narrow loss.
-// That refinement is what this tests, so the local map keeps each cell's first wall piece here.
-// With nearer views replacing them (the default, MatchGridOptions::nearer_view_ratio 0.5) this
-// exact-data case reads 0.15-0.17 deg at ratios 0.3-0.7: the one case measured where replacing is
-// worse (docs/BENCHMARKS.md, issue 8, session 19).
 TEST(ScanMatchingSlamTest, KeepsItsHeadingThroughAFurnishedRoom) {
   const testing::SegmentWorld room = testing::FurnishedRoom();
   // Circles of 1.8 m radius round (-0.8, 0), clear of the boxes.
   std::vector<Rigid2d> path = {Rigid2d(-0.8, -1.8, 0.0)};
   for (int i = 1; i <= 600; ++i) path.push_back(path.back() * Rigid2d(0.03, 0.0, 0.03 / 1.8));
-  ScanMatchingSlamOptions options = WithoutLoopClosure();
-  options.local_map.grid.nearer_view_ratio = 0.0;
-  ScanMatchingSlam slam(options);
+  ScanMatchingSlam slam(WithoutLoopClosure());
   DriveExactly(600, [&](int) { return room; }, [&](int i) { return path[static_cast<size_t>(i)]; }, &slam);
   double worst = 0.0;
   for (size_t i = 0; i < path.size(); ++i) {
