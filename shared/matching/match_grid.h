@@ -41,10 +41,10 @@ struct MatchGridOptions {
   float unknown_score = 0.4f;
   // A cell keeps the first wall piece that reached it, unless a scan added with its origin
   // (AddPoints) later sees that cell from less than this share of the range the kept piece was
-  // seen from: the nearer piece then replaces it. Why: a piece inherits its scan's heading error
-  // times its range, and a wall first enters the map from far away, at the edge of the scan. Kept
-  // for good, those far pieces made the rolling local map's walls bend by a few millimetres,
-  // enough to turn the scans matched to them by 0.1 degree. 0 keeps the first piece always.
+  // seen from: the nearer piece then replaces it. Why one might: a piece inherits its scan's
+  // heading error times its range, and a wall first enters the map from far away, at the edge of
+  // the scan. 0 (the default) keeps the first piece always; what 0.5 did to local SLAM is written
+  // beside LocalMatchMapOptions::DefaultGrid.
   double nearer_view_ratio = 0.0;
 };
 
