@@ -23,12 +23,6 @@ MatchGridOptions LocalMatchMapOptions::DefaultGrid() {
   options.track_observed = true;
   // Seen space is only for recognising moved objects: searches keep scoring unseen cells 0.
   options.unknown_score = 0.0f;
-  // Each cell keeps its first wall piece (nearer_view_ratio 0). With 0.5 local SLAM's heading
-  // error in the simulator's department fell by a third to a half and the merged department maps
-  // rose 1-3 points, but the demo's map fell 2 points, robot2 was placed 0.05 m off instead of
-  // 0.015 m, and east_end without detections lost 10 points (docs/BENCHMARKS.md, issue 8,
-  // session 19).
-  options.nearer_view_ratio = 0.0;
   return options;
 }
 

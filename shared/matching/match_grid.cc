@@ -80,7 +80,7 @@ void MatchGrid::AddPoint(const Eigen::Vector2d& point) {
   GrowToInclude(point, point);
   SurfaceElement element;
   element.centre = point;
-  Stamp(element, std::numeric_limits<float>::infinity());
+  Stamp(element);
 }
 
 namespace {
@@ -127,20 +127,12 @@ void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen
   // Wall pieces reach a little past their points.
   const Eigen::Vector2d reach = Eigen::Vector2d::Constant(options_.surface.max_extent);
   GrowToInclude(lo - reach, hi + reach);
-  const bool has_origin = origin != nullptr && origin->allFinite();
-  auto range_of = [&](const Eigen::Vector2d& p) {
-    return has_origin ? static_cast<float>((p - *origin).norm())
-                      : std::numeric_limits<float>::infinity();
-  };
-  const std::vector<SurfaceElement> elements =
-      FitSurfaceElements(points, options_.resolution, options_.surface);
-  for (size_t i = 0; i < elements.size(); ++i) Stamp(elements[i], range_of(points[i]));
-  if (has_origin && options_.join_scan_returns) {
-    // A joined segment bridges two returns rather than being seen itself: it never replaces a
-    // piece, and any piece seen in its cell replaces it (with it in place of the pieces, local
-    // SLAM's heading error was two to three times as large as without replacing at all).
+  for (const SurfaceElement& element : FitSurfaceElements(points, options_.resolution, options_.surface)) {
+    Stamp(element);
+  }
+  if (origin != nullptr && origin->allFinite() && options_.join_scan_returns) {
     for (const SurfaceElement& segment : JoinConsecutiveReturns(points, *origin, options_.scan_segments)) {
-      Stamp(segment, std::numeric_limits<float>::infinity());
+      Stamp(segment);
     }
   }
   if (trace) {
@@ -232,8 +224,6 @@ void MatchGrid::GrowToInclude(const Eigen::Vector2d& min_point, const Eigen::Vec
   std::vector<float> squared(n, max_squared_);
   std::vector<uint8_t> has_point(n, 0);
   std::vector<uint8_t> observed(options_.track_observed ? n : 0, 0);
-  const bool keep_pieces = options_.nearer_view_ratio > 0.0;
-  std::vector<int32_t> piece_of_cell(keep_pieces ? n : 0, -1);
   for (int y = 0; y < height_; ++y) {
     const size_t src = static_cast<size_t>(y) * static_cast<size_t>(width_);
     const size_t dst = static_cast<size_t>(y - lo.y()) * static_cast<size_t>(new_width) +
@@ -243,10 +233,6 @@ void MatchGrid::GrowToInclude(const Eigen::Vector2d& min_point, const Eigen::Vec
     if (options_.track_observed) {
       std::copy_n(observed_.begin() + static_cast<long>(src), width_, observed.begin() + static_cast<long>(dst));
     }
-    if (keep_pieces) {
-      std::copy_n(piece_of_cell_.begin() + static_cast<long>(src), width_,
-                  piece_of_cell.begin() + static_cast<long>(dst));
-    }
   }
   origin_ += r * lo.cast<double>().matrix();
   width_ = new_width;
@@ -254,63 +240,31 @@ void MatchGrid::GrowToInclude(const Eigen::Vector2d& min_point, const Eigen::Vec
   squared_ = std::move(squared);
   has_point_ = std::move(has_point);
   observed_ = std::move(observed);
-  piece_of_cell_ = std::move(piece_of_cell);
 }
 
-void MatchGrid::Stamp(const SurfaceElement& element, float range) {
+void MatchGrid::Stamp(const SurfaceElement& element) {
   const double r = options_.resolution;
   const double gx = (element.centre.x() - origin_.x()) / r;
   const double gy = (element.centre.y() - origin_.y()) / r;
   if (!(gx >= 0.0 && gy >= 0.0 && gx < width_ && gy < height_)) return;  // not after growing
-  const size_t cell =
-      static_cast<size_t>(gy) * static_cast<size_t>(width_) + static_cast<size_t>(gx);
-  const bool keep_pieces = options_.nearer_view_ratio > 0.0;
-  if (has_point_[cell]) {
-    if (!keep_pieces || piece_of_cell_[cell] < 0) return;
-    KeptPiece& kept = pieces_[static_cast<size_t>(piece_of_cell_[cell])];
-    if (!(range < options_.nearer_view_ratio * kept.range)) return;
-    const Eigen::Array4i old_box = StampBox(kept.element);
-    kept = {element, range};
-    longest_piece_ = std::max({longest_piece_, element.extent_minus, element.extent_plus});
-    const Eigen::Array4i new_box = StampBox(element);
-    Recompute(Eigen::Array4i(std::min(old_box[0], new_box[0]), std::min(old_box[1], new_box[1]),
-                             std::max(old_box[2], new_box[2]), std::max(old_box[3], new_box[3])));
-    return;
-  }
-  has_point_[cell] = 1;
+  const int cx = static_cast<int>(gx);
+  const int cy = static_cast<int>(gy);
+  uint8_t& seen = has_point_[static_cast<size_t>(cy) * static_cast<size_t>(width_) + static_cast<size_t>(cx)];
+  if (seen) return;
+  seen = 1;
   ++obstacle_count_;
-  if (keep_pieces) {
-    piece_of_cell_[cell] = static_cast<int32_t>(pieces_.size());
-    pieces_.push_back({element, range});
-    longest_piece_ = std::max({longest_piece_, element.extent_minus, element.extent_plus});
-  }
-  // AddBatch grew the grid to hold every element (wall pieces reach at most max_extent past
-  // their point, joined segments lie between two points of the batch); the box is clipped all
-  // the same.
-  const Eigen::Array4i box = StampBox(element);
-  StampInto(element, box[0], box[1], box[2], box[3]);
-}
-
-Eigen::Array4i MatchGrid::StampBox(const SurfaceElement& element) const {
-  const double r = options_.resolution;
-  const Eigen::Vector2d a = (element.centre - element.extent_minus * element.tangent - origin_) / r;
-  const Eigen::Vector2d b = (element.centre + element.extent_plus * element.tangent - origin_) / r;
-  const double radius = options_.max_distance / r;
-  return Eigen::Array4i(
-      std::max(0, static_cast<int>(std::floor(std::min(a.x(), b.x()) - radius))),
-      std::max(0, static_cast<int>(std::floor(std::min(a.y(), b.y()) - radius))),
-      std::min(width_ - 1, static_cast<int>(std::ceil(std::max(a.x(), b.x()) + radius))),
-      std::min(height_ - 1, static_cast<int>(std::ceil(std::max(a.y(), b.y()) + radius))));
-}
-
-void MatchGrid::StampInto(const SurfaceElement& element, int x0, int y0, int x1, int y1) {
-  // The segment from centre - extent_minus * tangent to centre + extent_plus * tangent, in grid
-  // units.
-  const double r = options_.resolution;
-  const double gx = (element.centre.x() - origin_.x()) / r;
-  const double gy = (element.centre.y() - origin_.y()) / r;
-  const Eigen::Vector2d& tangent = element.tangent;
+  // The segment's ends, in grid units; cells within max_distance of it are updated. AddBatch
+  // grew the grid to hold every element (wall pieces reach at most max_extent past their point,
+  // joined segments lie between two points of the batch); the box is clipped all the same.
+  const Eigen::Vector2d centre(gx, gy);
+  const Eigen::Vector2d tangent = element.tangent;
   const double reach_minus = element.extent_minus / r, reach_plus = element.extent_plus / r;
+  const Eigen::Vector2d a = centre - reach_minus * tangent, b = centre + reach_plus * tangent;
+  const double radius = options_.max_distance / r;
+  const int x0 = std::max(0, static_cast<int>(std::floor(std::min(a.x(), b.x()) - radius)));
+  const int x1 = std::min(width_ - 1, static_cast<int>(std::ceil(std::max(a.x(), b.x()) + radius)));
+  const int y0 = std::max(0, static_cast<int>(std::floor(std::min(a.y(), b.y()) - radius)));
+  const int y1 = std::min(height_ - 1, static_cast<int>(std::ceil(std::max(a.y(), b.y()) + radius)));
   const double r2 = r * r;
   for (int y = y0; y <= y1; ++y) {
     float* row = squared_.data() + static_cast<size_t>(y) * static_cast<size_t>(width_);
@@ -319,29 +273,6 @@ void MatchGrid::StampInto(const SurfaceElement& element, int x0, int y0, int x1,
       const double s = std::clamp(tangent.dot(d), -reach_minus, reach_plus);
       const float d2 = static_cast<float>((d - s * tangent).squaredNorm() * r2);
       if (d2 < row[x]) row[x] = d2;
-    }
-  }
-}
-
-void MatchGrid::Recompute(const Eigen::Array4i& box) {
-  for (int y = box[1]; y <= box[3]; ++y) {
-    std::fill_n(squared_.begin() + static_cast<long>(y) * width_ + box[0], box[2] - box[0] + 1,
-                max_squared_);
-  }
-  // Every kept piece that can reach the box has its centre within this many cells of it.
-  const int reach =
-      static_cast<int>(std::ceil((options_.max_distance + longest_piece_) / options_.resolution)) +
-      1;
-  for (int y = std::max(0, box[1] - reach); y <= std::min(height_ - 1, box[3] + reach); ++y) {
-    for (int x = std::max(0, box[0] - reach); x <= std::min(width_ - 1, box[2] + reach); ++x) {
-      const int32_t piece = piece_of_cell_[static_cast<size_t>(y) * static_cast<size_t>(width_) +
-                                           static_cast<size_t>(x)];
-      if (piece < 0) continue;
-      const Eigen::Array4i reached = StampBox(pieces_[static_cast<size_t>(piece)].element);
-      const int x0 = std::max(box[0], reached[0]), y0 = std::max(box[1], reached[1]);
-      const int x1 = std::min(box[2], reached[2]), y1 = std::min(box[3], reached[3]);
-      if (x0 <= x1 && y0 <= y1)
-        StampInto(pieces_[static_cast<size_t>(piece)].element, x0, y0, x1, y1);
     }
   }
 }

@@ -39,13 +39,6 @@ struct MatchGridOptions {
   // side of a box or round a corner matches best where its unseen parts land on seen walls.
   bool track_observed = false;
   float unknown_score = 0.4f;
-  // A cell keeps the first wall piece that reached it, unless a scan added with its origin
-  // (AddPoints) later sees that cell from less than this share of the range the kept piece was
-  // seen from: the nearer piece then replaces it. Why one might: a piece inherits its scan's
-  // heading error times its range, and a wall first enters the map from far away, at the edge of
-  // the scan. 0 (the default) keeps the first piece always; what 0.5 did to local SLAM is written
-  // beside LocalMatchMapOptions::DefaultGrid.
-  double nearer_view_ratio = 0.0;
 };
 
 // The target a scan is matched against: for every cell centre, the squared distance (m^2,
@@ -127,15 +120,7 @@ class MatchGrid {
   void AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d* origin,
                 const std::vector<Eigen::Vector2d>& free_ends = {});
   void MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to);
-  // Stamps a piece seen from `range` metres (infinite: no scan origin) into its cell, unless the
-  // cell already holds one and nearer_view_ratio does not let this one replace it.
-  void Stamp(const SurfaceElement& element, float range);
-  // Lowers the squared distances in cells [x0, x1] x [y0, y1] to `element`'s.
-  void StampInto(const SurfaceElement& element, int x0, int y0, int x1, int y1);
-  // Cells within max_distance of `element` (clipped to the grid): x0, y0, x1, y1.
-  Eigen::Array4i StampBox(const SurfaceElement& element) const;
-  // Recomputes the squared distances in a box from the pieces kept (after a replacement).
-  void Recompute(const Eigen::Array4i& box);
+  void Stamp(const SurfaceElement& element);
 
   MatchGridOptions options_;
   Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
@@ -146,15 +131,6 @@ class MatchGrid {
   std::vector<float> squared_;
   std::vector<uint8_t> has_point_;  // 1 where a cell already holds an obstacle point
   std::vector<uint8_t> observed_;   // 1 where a scan saw the cell (track_observed only)
-  // With nearer_view_ratio: each cell's piece (index into pieces_, -1 for none) and the range
-  // it was seen from. Pieces are in map coordinates, so growing the grid leaves them unchanged.
-  struct KeptPiece {
-    SurfaceElement element;
-    float range;
-  };
-  std::vector<int32_t> piece_of_cell_;
-  std::vector<KeptPiece> pieces_;
-  double longest_piece_ = 0.0;  // the largest extent of a kept piece, metres
 };
 
 }  // namespace fleetmap
