@@ -41,6 +41,8 @@ struct BenchOptions {
   LaserBodyOptions laser_bodies;
   uint64_t seed_offset = 0;  // added to the scenario's seed (odometry, laser and route noise)
   std::string algorithm = "scan-matching";  // every robot's local SLAM backend
+  int submap_scans = -1;                    // scan-matching submap limits; negative: default
+  double submap_travel = -1.0;
 };
 
 std::unique_ptr<sim::Simulation> LoadSimulation(const std::string& path, uint64_t seed_offset,
@@ -68,6 +70,8 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
     BackendChoice choice;
     choice.robot_id = info.name;
     choice.algorithm = options.algorithm;
+    choice.submap_scans = options.submap_scans;
+    choice.submap_travel = options.submap_travel;
     slams.push_back(MakeLocalSlam(choice, error));
     if (!slams.back()) return false;
   }
@@ -257,6 +261,7 @@ int main(int argc, char** argv) {
   bool without_only = false;
   bool with_only = false;
   int seeds = 1;
+  int first_seed = 0;
   CLI::App app{"merge benchmark: simulator scenarios -> local SLAM -> MergeEngine (in process)"};
   app.add_option("scenarios", scenarios, "scenario files or shipped scenario names")
       ->capture_default_str();
@@ -303,10 +308,21 @@ int main(int argc, char** argv) {
                  "every robot's local SLAM backend (the agent's default is scan-matching)")
       ->check(CLI::IsMember(fleetmap::LocalSlamAlgorithms()))
       ->capture_default_str();
+  app.add_option("--submap-scans", options.submap_scans,
+                 "scan-matching local SLAM: scans per submap (default: the backend's, 100)")
+      ->check(CLI::Range(1, 100000));
+  app.add_option(
+         "--submap-travel", options.submap_travel,
+         "scan-matching local SLAM: metres of travel per submap (default: the backend's, 10)")
+      ->check(CLI::Range(0.1, 1000.0));
   app.add_option("--seeds", seeds,
                  "runs per scenario, with the scenario's seed, then seed + 1, ... (a summary line "
                  "per scenario when more than one)")
       ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  app.add_option("--first-seed", first_seed,
+                 "offset of the first run's seed from the scenario's (held-out seeds: e.g. 8)")
+      ->check(CLI::Range(0, 10000))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (without_only) both = false;
@@ -319,10 +335,10 @@ int main(int argc, char** argv) {
     for (int with = both ? 1 : 0; with >= (with_only ? 1 : 0); --with) {
       options.detections = with == 1;
       std::vector<fleetmap::RunResult> runs;
-      for (int k = 0; k < seeds; ++k) {
+      for (int k = first_seed; k < first_seed + seeds; ++k) {
         options.seed_offset = static_cast<uint64_t>(k);
         std::cout << name << (options.detections ? " (with detections)" : " (no detections)");
-        if (seeds > 1) std::cout << ", seed +" << k;
+        if (seeds > 1 || first_seed > 0) std::cout << ", seed +" << k;
         std::cout << ": running..." << std::endl;
         fleetmap::RunResult result;
         std::string error;

@@ -33,13 +33,25 @@ void PrintRun(const RunResult& result, double wall) {
       100.0 * result.map_at_true_anchors);
   for (double m : result.map_local_per_robot) std::printf(" %.2f %%", 100.0 * m);
   std::printf("\n");
+  int overlapping = 0, overlapping_placed = 0;
+  std::printf("  pair overlaps (share of the smaller map, at the true anchors):");
+  for (size_t k = 0; k < result.pair_overlap.size(); ++k) {
+    const bool placed = k < result.pair_placed.size() && result.pair_placed[k];
+    std::printf(" %.0f %%%s", 100.0 * result.pair_overlap[k], placed ? "" : " (not merged)");
+    if (result.pair_overlap[k] >= kMinPairOverlap) {
+      ++overlapping;
+      overlapping_placed += placed;
+    }
+  }
+  std::printf("; at least %.0f %%: %d pairs, %d merged\n", 100.0 * kMinPairOverlap, overlapping,
+              overlapping_placed);
   std::fflush(stdout);
 }
 
 void PrintSummary(const std::string& name, bool detections, const std::vector<RunResult>& runs) {
   if (runs.size() < 2) return;
   double map_sum = 0.0, map_min = 1.0, map_max = 0.0, worst_pair = 0.0, fit_sum = 0.0;
-  int merged = 0, pairs = 0, false_merges = 0;
+  int merged = 0, pairs = 0, false_merges = 0, overlapping = 0, overlapping_placed = 0;
   for (const RunResult& r : runs) {
     map_sum += r.map_accuracy;
     fit_sum += r.map_accuracy_best_fit;
@@ -49,14 +61,20 @@ void PrintSummary(const std::string& name, bool detections, const std::vector<Ru
     merged += r.placed_pairs;
     pairs += r.pairs;
     false_merges += r.false_merges;
+    for (size_t k = 0; k < r.pair_overlap.size(); ++k) {
+      if (r.pair_overlap[k] < kMinPairOverlap) continue;
+      ++overlapping;
+      overlapping_placed += k < r.pair_placed.size() && r.pair_placed[k];
+    }
   }
   const double n = static_cast<double>(runs.size());
   std::printf(
       "  SUMMARY %s (%s), %zu seeds: map %.2f %% mean (%.2f-%.2f; best rigid fit %.2f %% "
-      "mean), worst pair %.3f m, merged pairs %d/%d, false merges %d\n",
+      "mean), worst pair %.3f m, merged pairs %d/%d (overlapping by %.0f %% or more: %d/%d), "
+      "false merges %d\n",
       name.c_str(), detections ? "with detections" : "no detections", runs.size(),
       100.0 * map_sum / n, 100.0 * map_min, 100.0 * map_max, 100.0 * fit_sum / n, worst_pair,
-      merged, pairs, false_merges);
+      merged, pairs, 100.0 * kMinPairOverlap, overlapping_placed, overlapping, false_merges);
   std::fflush(stdout);
 }
 

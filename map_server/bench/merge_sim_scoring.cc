@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
 
 #include "map_server/merge/log_odds_canvas.h"
 #include "robot_agent/sim/map_accuracy.h"
@@ -77,6 +78,46 @@ void PrintSubmapDiagnosis(const MergeEngine& engine, const std::map<NodeId, Subm
   }
 }
 
+namespace {
+
+// The lattice cells (kOverlapResolution) of the world a canvas has seen.
+std::set<std::pair<int, int>> SeenCells(const LogOddsCanvas& canvas) {
+  std::set<std::pair<int, int>> seen;
+  for (int y = 0; y < canvas.height(); ++y) {
+    for (int x = 0; x < canvas.width(); ++x) {
+      const int i = canvas.min_cell().x() + x, j = canvas.min_cell().y() + y;
+      if (canvas.Sum(i, j) != 0.0f) seen.emplace(i, j);
+    }
+  }
+  return seen;
+}
+
+void PairOverlaps(const std::map<NodeId, Submap>& submaps, const RunTruth& known,
+                  RunResult* result) {
+  std::vector<LogOddsCanvas> at_truth(known.names.size(), LogOddsCanvas(kOverlapResolution));
+  for (const auto& [id, submap] : submaps) {
+    const auto truth = TrueAnchor(known, id);
+    const auto robot = std::find(known.names.begin(), known.names.end(), id.robot);
+    if (truth && robot != known.names.end()) {
+      at_truth[static_cast<size_t>(robot - known.names.begin())].AddSubmap(submap.grid, *truth,
+                                                                           1.0f);
+    }
+  }
+  std::vector<std::set<std::pair<int, int>>> seen;
+  for (const LogOddsCanvas& canvas : at_truth) seen.push_back(SeenCells(canvas));
+  result->pair_overlap.clear();
+  for (size_t a = 0; a < seen.size(); ++a) {
+    for (size_t b = a + 1; b < seen.size(); ++b) {
+      size_t both = 0;
+      for (const auto& cell : seen[a]) both += seen[b].count(cell);
+      const size_t smaller = std::min(seen[a].size(), seen[b].size());
+      result->pair_overlap.push_back(smaller == 0 ? 0.0 : static_cast<double>(both) / smaller);
+    }
+  }
+}
+
+}  // namespace
+
 void ScoreMapBounds(const std::map<NodeId, Submap>& submaps, const RunTruth& known,
                     const sim::World& world, RunResult* result) {
   const MergeEngineOptions defaults;
@@ -91,6 +132,7 @@ void ScoreMapBounds(const std::map<NodeId, Submap>& submaps, const RunTruth& kno
       local[i].AddSubmap(submap.grid, *known.local_in_world[i] * submap.submap_in_local, 1.0f);
     }
   }
+  PairOverlaps(submaps, known, result);
   const WallMask walls = sim::WorldWalls(world);
   const auto score = [&](const LogOddsCanvas& canvas) {
     if (canvas.empty()) return 0.0;
@@ -126,9 +168,11 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::Wor
         std::snprintf(line, sizeof(line), "  %s-%s: not merged", known.names[a].c_str(),
                       known.names[b].c_str());
         result->lines.push_back(line);
+        result->pair_placed.push_back(false);
         continue;
       }
       ++result->placed_pairs;
+      result->pair_placed.push_back(true);
       const Rigid2d estimated = ga->inverse() * *gb;
       const Rigid2d truth = known.local_in_world[a]->inverse() * *known.local_in_world[b];
       const Rigid2d diff = truth.inverse() * estimated;

@@ -23,6 +23,10 @@ struct BackendChoice {
   // Particle filters only: global loop closure over the best particle's trajectory
   // (ParticleSlamOptions::loop_closure; on by default, see ParticleLoopClosureOptions).
   bool particle_loop_closure = true;
+  // Scan-matching only: submap limits (SubmapOptions::max_scans, max_travel); negative keeps the
+  // backend's default.
+  int submap_scans = -1;
+  double submap_travel = -1.0;
 };
 
 // The motion inputs BackendChoice::motion accepts.
