@@ -315,6 +315,10 @@ int main(int argc, char** argv) {
          "--submap-travel", options.submap_travel,
          "scan-matching local SLAM: metres of travel per submap (default: the backend's, 10)")
       ->check(CLI::Range(0.1, 1000.0));
+  app.add_option("--whole-map-ambiguity", options.engine.whole_map_ambiguity,
+                 "merge engine: a join on matches alone waits while another alignment of the "
+                 "whole maps scores this share of it (MergeEngineOptions::whole_map_ambiguity)")
+      ->capture_default_str();
   app.add_option("--seeds", seeds,
                  "runs per scenario, with the scenario's seed, then seed + 1, ... (a summary line "
                  "per scenario when more than one)")

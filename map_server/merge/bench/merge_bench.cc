@@ -33,6 +33,7 @@ struct Config {
   double detection_period = 4.0;  // seconds between detection attempts
   double dt = 0.5;                // seconds between scans
   double step = 0.25;             // metres between scans
+  double whole_map_ambiguity = MergeEngineOptions().whole_map_ambiguity;
 };
 
 struct SimRobot {
@@ -96,6 +97,7 @@ int Run(const Config& c) {
 
   MergeEngineOptions options;
   options.local_constraints = c.local_constraints;
+  options.whole_map_ambiguity = c.whole_map_ambiguity;
   MergeEngine engine(options);
   std::vector<bool> corrupted;
   int detections_total = 0, next_detection_step = 0;
@@ -263,6 +265,10 @@ int main(int argc, char** argv) {
   app.add_option("--rooms-x", c.rooms_x, "Rooms along x")->check(CLI::Range(1, 20));
   app.add_option("--rooms-y", c.rooms_y, "Rooms along y")->check(CLI::Range(1, 20));
   app.add_option("--seed", c.seed, "Random seed");
+  app.add_option("--whole-map-ambiguity", c.whole_map_ambiguity,
+                 "A join on matches alone waits while another alignment of the whole maps "
+                 "scores this share of it (MergeEngineOptions::whole_map_ambiguity)")
+      ->capture_default_str();
   app.add_option("--outlier-fraction", c.outlier_fraction, "Fraction of corrupted detections")->check(CLI::Range(0.0, 1.0));
   app.add_option("--detection-sigma", c.detection_sigma, "Detection position noise (m)");
   bool no_detections = false;
