@@ -317,7 +317,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 1000.0));
   app.add_option("--whole-map-ambiguity", options.engine.whole_map_ambiguity,
                  "merge engine: a join on matches alone waits while another alignment of the "
-                 "whole maps scores this share of it (MergeEngineOptions::whole_map_ambiguity)")
+                 "whole maps scores this share of it (MergeEngineOptions::whole_map_ambiguity; 0: "
+                 "no check)")
+      ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--seeds", seeds,
                  "runs per scenario, with the scenario's seed, then seed + 1, ... (a summary line "

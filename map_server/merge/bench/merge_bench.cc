@@ -267,7 +267,8 @@ int main(int argc, char** argv) {
   app.add_option("--seed", c.seed, "Random seed");
   app.add_option("--whole-map-ambiguity", c.whole_map_ambiguity,
                  "A join on matches alone waits while another alignment of the whole maps "
-                 "scores this share of it (MergeEngineOptions::whole_map_ambiguity)")
+                 "scores this share of it (MergeEngineOptions::whole_map_ambiguity; 0: no check)")
+      ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--outlier-fraction", c.outlier_fraction, "Fraction of corrupted detections")->check(CLI::Range(0.0, 1.0));
   app.add_option("--detection-sigma", c.detection_sigma, "Detection position noise (m)");
