@@ -321,6 +321,12 @@ int main(int argc, char** argv) {
                  "no check)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  app.add_option("--whole-map-min-contradictions", options.engine.whole_map_min_contradictions,
+                 "merge engine: an alternative alignment of the whole maps stops blocking a join "
+                 "when that many more of their walls cross seen-free space there "
+                 "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--seeds", seeds,
                  "runs per scenario, with the scenario's seed, then seed + 1, ... (a summary line "
                  "per scenario when more than one)")

@@ -26,7 +26,7 @@ struct SearchContext {
   int window_y;
   double resolution;
   Eigen::Vector2d center_translation;
-  const std::optional<ExclusionZone>* exclusion;
+  const std::vector<ExclusionZone>* exclusions;
 };
 
 float Score(const SearchContext& ctx, int level, const Node& node) {
@@ -42,11 +42,13 @@ Rigid2d NodePose(const SearchContext& ctx, const Node& node) {
 }
 
 bool Excluded(const SearchContext& ctx, const Node& node) {
-  if (!ctx.exclusion->has_value()) return false;
-  const ExclusionZone& zone = **ctx.exclusion;
+  if (ctx.exclusions->empty()) return false;
   const Rigid2d pose = NodePose(ctx, node);
-  return (pose.translation() - zone.center.translation()).norm() < zone.linear &&
-         std::abs(NormalizeAngle(pose.rotation() - zone.center.rotation())) < zone.angular;
+  return std::any_of(
+      ctx.exclusions->begin(), ctx.exclusions->end(), [&](const ExclusionZone& zone) {
+        return (pose.translation() - zone.center.translation()).norm() < zone.linear &&
+               std::abs(NormalizeAngle(pose.rotation() - zone.center.rotation())) < zone.angular;
+      });
 }
 
 void SortDescending(std::vector<Node>* nodes) {
@@ -87,8 +89,8 @@ BranchAndBoundMatcher::BranchAndBoundMatcher(const ScoreGrid& grid,
     : grid_(grid), options_(options), pyramid_(grid, options.max_levels) {}
 
 std::optional<MatchCandidate> BranchAndBoundMatcher::Search(
-    const std::vector<Eigen::Vector2d>& source_points, const SearchWindow& window,
-    double min_score, const std::optional<ExclusionZone>& exclusion) const {
+    const std::vector<Eigen::Vector2d>& source_points, const SearchWindow& window, double min_score,
+    const std::vector<ExclusionZone>& exclusions) const {
   if (source_points.empty() || grid_.empty()) return std::nullopt;
   const double resolution = grid_.resolution();
   double max_radius = resolution;
@@ -125,7 +127,7 @@ std::optional<MatchCandidate> BranchAndBoundMatcher::Search(
   ctx.window_y = static_cast<int>(std::ceil(window.linear_half_extent.y() / resolution));
   ctx.resolution = resolution;
   ctx.center_translation = window.center.translation();
-  ctx.exclusion = &exclusion;
+  ctx.exclusions = &exclusions;
 
   const int extent = 2 * std::max(ctx.window_x, ctx.window_y) + 1;
   int top = 0;

@@ -46,11 +46,10 @@ class BranchAndBoundMatcher {
  public:
   BranchAndBoundMatcher(const ScoreGrid& grid, const BranchAndBoundOptions& options);
 
-  // The best pose scoring above `min_score`, skipping poses inside `exclusion` when given.
+  // The best pose scoring above `min_score`, skipping poses inside any of `exclusions`.
   std::optional<MatchCandidate> Search(const std::vector<Eigen::Vector2d>& source_points,
                                        const SearchWindow& window, double min_score,
-                                       const std::optional<ExclusionZone>& exclusion =
-                                           std::nullopt) const;
+                                       const std::vector<ExclusionZone>& exclusions = {}) const;
 
   // The score of one pose (nearest cells), e.g. to verify a predicted alignment.
   double ScoreAt(const std::vector<Eigen::Vector2d>& source_points, const Rigid2d& pose) const;

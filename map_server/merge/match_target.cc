@@ -118,12 +118,23 @@ MatchResult MatchTarget::Evaluate(const MatchSource& source, const Rigid2d& pose
   return EvaluateWithScore(source, pose, gates, matcher_->ScoreAt(source.coarse, pose));
 }
 
-std::optional<MatchCandidate> MatchTarget::BestOutside(const MatchSource& source,
-                                                       const SearchWindow& window,
-                                                       double min_score,
-                                                       const ExclusionZone& zone) const {
+int MatchTarget::ContradictionsAt(const std::vector<Eigen::Vector2d>& points,
+                                  const Rigid2d& pose) const {
+  int count = 0;
+  for (const Eigen::Vector2d& p : points) {
+    const Eigen::Vector2d c = grid_.ToCellCoordinates(pose * p);
+    const int x = static_cast<int>(std::floor(c.x())), y = static_cast<int>(std::floor(c.y()));
+    // Known cells score above zero within twice sigma of a wall; beyond, only seen-free remains.
+    count += grid_.Known(x, y) && grid_.Value(x, y) <= 0.0f;
+  }
+  return count;
+}
+
+std::optional<MatchCandidate> MatchTarget::BestOutside(
+    const MatchSource& source, const SearchWindow& window, double min_score,
+    const std::vector<ExclusionZone>& zones) const {
   if (empty() || source.coarse.empty()) return std::nullopt;
-  return matcher_->Search(source.coarse, window, min_score, zone);
+  return matcher_->Search(source.coarse, window, min_score, zones);
 }
 
 MatchResult MatchTarget::EvaluateWithScore(const MatchSource& source, const Rigid2d& pose,
@@ -179,7 +190,8 @@ MatchResult MatchTarget::Match(const MatchSource& source, const SearchWindow& wi
   }
   ExclusionZone zone = gates.distinct;
   zone.center = best->pose;
-  const auto second = matcher_->Search(source.coarse, window, gates.max_ambiguity * best->score, zone);
+  const auto second =
+      matcher_->Search(source.coarse, window, gates.max_ambiguity * best->score, {zone});
   // Sided distances only where the source can land during the refinement (plus the field's
   // reach): building them over a whole map for every match would cost more than the search.
   Box2d box{best->pose.translation(), best->pose.translation()};

@@ -87,6 +87,19 @@ struct MergeEngineOptions {
   double whole_map_ambiguity = 0.85;
   double whole_map_min_overlap = 0.5;
   double whole_map_resolution = 0.2;
+  // Such an alternative is ruled out by the maps themselves when, placed there, either map's
+  // walls cross space the other map saw free (and away from its walls) at no fewer than
+  // whole_map_min_contradictions points of whole_map_resolution, and at least
+  // whole_map_contradiction_ratio times as many as at the join plus that minimum: a wall seen
+  // through is evidence, a similar score is not. The next best alternative is then examined, up
+  // to whole_map_max_refuted of them. Only alternatives scoring no more than the join are ruled
+  // out so: one that explains more of the maps keeps the join waiting whatever it crosses. In
+  // the department the corridors repeat every 6.2 m; such a shift of the true join crosses
+  // 70-160 walls, the join itself 0-4 (docs/BENCHMARKS.md, issue 8, session 21). 0 turns this
+  // off (every alternative scoring nearly as well keeps the join waiting).
+  int whole_map_min_contradictions = 30;
+  double whole_map_contradiction_ratio = 4.0;
+  int whole_map_max_refuted = 8;
   // A submap match (no detection) is also confirmed by another submap of the same robot matching
   // at the pose it predicts, when the whole-map check then finds nothing as good. Without this a
   // second match had to pass the global search's gates too, and in the department's east end
@@ -231,13 +244,17 @@ class MergeEngine {
   std::optional<SeenPositions> PositionsAt(const RobotDetection& detection) const;
   std::optional<HeadingPrior> HeadingFromMotion(size_t detection_index) const;
   // merge_engine_ambiguity.cc
-  // Why a match-only join of the parts rooted at root_a and root_b at `b_in_a` is not
-  // unambiguous over their whole maps; empty when it is.
-  // The answer is kept while neither part's map changes, for alignments that agree with it.
-  std::optional<std::string> WholeMapAmbiguity(const std::string& root_a, const std::string& root_b,
-                                               const Rigid2d& b_in_a);
-  std::optional<std::string> SearchWholeMaps(const std::string& root_a, const std::string& root_b,
-                                             const Rigid2d& b_in_a) const;
+  // Whether a match-only join of the parts rooted at root_a and root_b at `b_in_a` is
+  // unambiguous over their whole maps. The answer is kept while neither part's map changes, for
+  // alignments that agree with it.
+  struct WholeMapVerdict {
+    std::optional<std::string> ambiguity;  // why not; empty when unambiguous
+    std::string note;  // for the provenance: alternatives the maps' walls ruled out
+  };
+  WholeMapVerdict WholeMapAmbiguity(const std::string& root_a, const std::string& root_b,
+                                    const Rigid2d& b_in_a);
+  WholeMapVerdict SearchWholeMaps(const std::string& root_a, const std::string& root_b,
+                                  const Rigid2d& b_in_a) const;
   // merge_engine_loops.cc
   void ProcessLoopClosures(MergeUpdate* update);
   void Consider(Hypothesis hypothesis, MergeUpdate* update);
@@ -293,7 +310,7 @@ class MergeEngine {
   struct CachedAmbiguity {
     std::string stamp;
     Rigid2d b_in_a;
-    std::optional<std::string> answer;
+    WholeMapVerdict answer;
   };
   std::map<std::pair<std::string, std::string>, CachedAmbiguity> ambiguities_;
 };

@@ -7,6 +7,7 @@
 // score alike: the join then waits (for a detection, or for maps that tell them apart).
 
 #include <sstream>
+#include <vector>
 
 #include "map_server/merge/grid_points.h"
 #include "map_server/merge/internal/merge_engine_state.h"
@@ -14,10 +15,10 @@
 
 namespace fleetmap {
 
-std::optional<std::string> MergeEngine::WholeMapAmbiguity(const std::string& root_a,
-                                                          const std::string& root_b,
-                                                          const Rigid2d& b_in_a) {
-  if (!(options_.whole_map_ambiguity > 0.0)) return std::nullopt;
+MergeEngine::WholeMapVerdict MergeEngine::WholeMapAmbiguity(const std::string& root_a,
+                                                            const std::string& root_b,
+                                                            const Rigid2d& b_in_a) {
+  if (!(options_.whole_map_ambiguity > 0.0)) return {};
   // Many submap matches agree on one alignment; the search is what costs.
   const std::string stamp = CanvasStamp(root_a) + '|' + CanvasStamp(root_b);
   CachedAmbiguity& cached = ambiguities_[{root_a, root_b}];
@@ -30,9 +31,9 @@ std::optional<std::string> MergeEngine::WholeMapAmbiguity(const std::string& roo
   return cached.answer;
 }
 
-std::optional<std::string> MergeEngine::SearchWholeMaps(const std::string& root_a,
-                                                        const std::string& root_b,
-                                                        const Rigid2d& b_in_a) const {
+MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& root_a,
+                                                          const std::string& root_b,
+                                                          const Rigid2d& b_in_a) const {
   const double resolution = options_.whole_map_resolution;
   const auto render = [&](const std::string& root) {
     LogOddsCanvas canvas(resolution);
@@ -48,9 +49,13 @@ std::optional<std::string> MergeEngine::SearchWholeMaps(const std::string& root_
   MatchTargetOptions match_options = options_.match;
   match_options.grid.resolution = resolution;
   match_options.grid.sigma = 0.0;  // the resolution
-  const MatchTarget target(render(root_a), match_options);
-  MatchSource source = MakeMatchSource(render(root_b), Rigid2d(), match_options);
-  if (target.empty() || source.coarse.empty()) return std::nullopt;
+  const OccupancyGrid map_a = render(root_a), map_b = render(root_b);
+  const MatchTarget target(map_a, match_options);
+  MatchSource source = MakeMatchSource(map_b, Rigid2d(), match_options);
+  if (target.empty() || source.coarse.empty()) return {};
+  // The other direction, for contradictions: a's walls in space b saw free.
+  const MatchTarget reverse_target(map_b, match_options);
+  const MatchSource reverse_source = MakeMatchSource(map_a, Rigid2d(), match_options);
   // Turn about the source's centroid, so that the window only has to cover the target.
   const Eigen::Vector2d c = Centroid(source.coarse);
   TransformSource(Rigid2d(-c, 0.0), &source);
@@ -60,8 +65,15 @@ std::optional<std::string> MergeEngine::SearchWholeMaps(const std::string& root_
   why.precision(3);
   if (!(at_candidate.score > 0.0)) {
     why << "the whole maps contradict it (score " << at_candidate.score << ")";
-    return why.str();
+    return {why.str(), ""};
   }
+  // Walls of either map inside space the other saw free, at an alignment of the centred source.
+  const auto contradictions = [&](const Rigid2d& centred_b_in_a) {
+    const Rigid2d whole_b_in_a = centred_b_in_a * Rigid2d(-c, 0.0);
+    return target.ContradictionsAt(source.fine, centred_b_in_a) +
+           reverse_target.ContradictionsAt(reverse_source.fine, whole_b_in_a.inverse());
+  };
+  const int candidate_contradictions = contradictions(candidate);
   // Another alignment is as good an explanation when it scores nearly as well over all points,
   // or when it is as consistent where the maps overlap (score per overlapping point) over a
   // sizeable share of the join's overlap; either way it scores at least
@@ -73,21 +85,53 @@ std::optional<std::string> MergeEngine::SearchWholeMaps(const std::string& root_
   window.angular_half_extent = M_PI;
   ExclusionZone zone = options_.cross_gates.distinct;
   zone.center = candidate;
-  const auto other = target.BestOutside(source, window, min_overlap * ratio * at_candidate.score, zone);
-  if (!other) return std::nullopt;
-  const MatchResult at_other = target.Evaluate(source, other->pose, options_.cross_gates);
-  const bool explains_as_much = at_other.score >= ratio * at_candidate.score;
-  const bool as_consistent = at_other.overlap >= min_overlap * at_candidate.overlap &&
-                             at_other.overlap_score >= ratio * at_candidate.overlap_score;
-  if (!explains_as_much && !as_consistent) return std::nullopt;
-  const Rigid2d apart = b_in_a.inverse() * (other->pose * Rigid2d(-c, 0.0));
-  why << "ambiguous over the whole maps: an alignment " << apart.translation().norm() << " m, "
-      << std::abs(NormalizeAngle(apart.rotation())) * 180.0 / M_PI
-      << " deg away fits as well (score " << at_other.score << " against " << at_candidate.score
-      << "; where the maps overlap " << at_other.overlap_score << " over " << at_other.overlap
-      << " of the points, against " << at_candidate.overlap_score << " over "
-      << at_candidate.overlap << ")";
-  return why.str();
+  std::vector<ExclusionZone> zones = {zone};
+  std::ostringstream ruled_out;
+  ruled_out.precision(3);
+  const auto describe = [&](std::ostream& os, const Rigid2d& apart) {
+    os << apart.translation().norm() << " m, "
+       << std::abs(NormalizeAngle(apart.rotation())) * 180.0 / M_PI << " deg away";
+  };
+  for (int refuted = 0;; ++refuted) {
+    const auto other =
+        target.BestOutside(source, window, min_overlap * ratio * at_candidate.score, zones);
+    WholeMapVerdict verdict;
+    if (refuted > 0) {
+      verdict.note = "the whole maps' walls rule out " + std::to_string(refuted) +
+                     " other alignment(s) scoring nearly as well (" + ruled_out.str() + ")";
+    }
+    if (!other) return verdict;
+    const MatchResult at_other = target.Evaluate(source, other->pose, options_.cross_gates);
+    const bool explains_as_much = at_other.score >= ratio * at_candidate.score;
+    const bool as_consistent = at_other.overlap >= min_overlap * at_candidate.overlap &&
+                               at_other.overlap_score >= ratio * at_candidate.overlap_score;
+    if (!explains_as_much && !as_consistent) return verdict;
+    const Rigid2d apart = b_in_a.inverse() * (other->pose * Rigid2d(-c, 0.0));
+    const int other_contradictions = contradictions(other->pose);
+    const bool ruled_out_by_walls =
+        options_.whole_map_min_contradictions > 0 && at_other.score <= at_candidate.score &&
+        other_contradictions >=
+            options_.whole_map_min_contradictions +
+                options_.whole_map_contradiction_ratio * candidate_contradictions;
+    if (ruled_out_by_walls && refuted < options_.whole_map_max_refuted) {
+      ruled_out << (refuted > 0 ? "; " : "");
+      describe(ruled_out, apart);
+      ruled_out << ": " << other_contradictions << " wall points in seen-free space against "
+                << candidate_contradictions;
+      zone.center = other->pose;
+      zones.push_back(zone);
+      continue;
+    }
+    why << "ambiguous over the whole maps: an alignment ";
+    describe(why, apart);
+    why << " fits as well (score " << at_other.score << " against " << at_candidate.score
+        << "; where the maps overlap " << at_other.overlap_score << " over " << at_other.overlap
+        << " of the points, against " << at_candidate.overlap_score << " over "
+        << at_candidate.overlap << "; wall points in seen-free space " << other_contradictions
+        << " against " << candidate_contradictions << ")";
+    verdict.ambiguity = why.str();
+    return verdict;
+  }
 }
 
 }  // namespace fleetmap

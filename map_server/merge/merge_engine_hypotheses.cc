@@ -66,15 +66,17 @@ void MergeEngine::Consider(Hypothesis h, MergeUpdate* update) {
   for (auto it = hypotheses_.begin(); it != hypotheses_.end(); ++it) {
     if (!Agree(h, *it)) continue;
     if (!h.detection && !it->detection) {
-      const auto ambiguity = WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
-      if (ambiguity) {
+      const WholeMapVerdict whole =
+          WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
+      if (whole.ambiguity) {
         h.event.type = AlignmentEventType::kHypothesis;
-        h.event.reason += "; agrees with another submap match but " + *ambiguity +
-                          ": kept as a hypothesis";
+        h.event.reason +=
+            "; agrees with another submap match but " + *whole.ambiguity + ": kept as a hypothesis";
         update->events.push_back(h.event);
         hypotheses_.push_back(std::move(h));
         return;
       }
+      if (!whole.note.empty()) h.event.reason += "; " + whole.note;
     }
     const Hypothesis other = *it;
     hypotheses_.erase(it);
@@ -94,14 +96,16 @@ void MergeEngine::Consider(Hypothesis h, MergeUpdate* update) {
   if (!h.detection && options_.verify_matches) {
     h.reviewed_at_submaps = FinishedSubmaps(Root(h.robot_a)) + FinishedSubmaps(Root(h.robot_b));
     if (Verify(h, &edges)) {
-      const auto ambiguity = WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
-      if (!ambiguity) {
+      const WholeMapVerdict whole =
+          WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
+      if (!whole.ambiguity) {
         h.event.reason += "; confirmed by matching another submap of " + h.robot_b;
+        if (!whole.note.empty()) h.event.reason += "; " + whole.note;
         Accept(h, edges, update);
         return;
       }
       h.event.reason +=
-          "; another submap of " + h.robot_b + " matches there too, but " + *ambiguity;
+          "; another submap of " + h.robot_b + " matches there too, but " + *whole.ambiguity;
     }
   }
   h.event.type = AlignmentEventType::kHypothesis;
@@ -298,12 +302,14 @@ void MergeEngine::ReviewMatchHypotheses(MergeUpdate* update) {
     next->reviewed_at_submaps = next_submaps;
     std::vector<RelativeEdge> edges;
     const std::string root_a = Root(next->robot_a), root_b = Root(next->robot_b);
-    if (!Verify(*next, &edges) || WholeMapAmbiguity(root_a, root_b, FrameTransform(*next)))
-      continue;
+    if (!Verify(*next, &edges)) continue;
+    const WholeMapVerdict whole = WholeMapAmbiguity(root_a, root_b, FrameTransform(*next));
+    if (whole.ambiguity) continue;
     Hypothesis h = std::move(*next);
     hypotheses_.erase(next);
     h.event.reason += "; confirmed later by matching another submap of " + h.robot_b +
                       ", nothing as good over the whole maps";
+    if (!whole.note.empty()) h.event.reason += " (" + whole.note + ")";
     Accept(h, edges, update);
   }
 }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include "tests/merge/merge_test_worlds.h"
 #include "tests/support/test_support.h"
 
@@ -97,24 +99,67 @@ TEST(MatchTargetOverlapTest, KnownPositionPartialOverlapIsJudgedOnTheOverlap) {
   }
 }
 
-// A stretch of straight corridor matches equally well anywhere along the corridor: ambiguous.
-TEST(MatchTargetCorridorTest, CorridorIsAmbiguous) {
+// The corridor driven end to end (the target), a stretch of it seen from `source_in_world`,
+// and a window over the whole target.
+struct CorridorCase {
+  std::unique_ptr<MatchTarget> target;
+  MatchSource source;
+  SearchWindow window;
+};
+
+CorridorCase MakeCorridorCase(const Rigid2d& source_in_world) {
   const testing::SegmentWorld world = testing::CorridorWorld();
   std::vector<Rigid2d> poses;
   for (double x = 2; x <= 28; x += 2) poses.emplace_back(x, 1, 0);
   MatchTargetOptions options;
-  const MatchTarget target(testing::GridFromScans(world, poses, Rigid2d()), options);
-  const Rigid2d source_in_world(14.0, 1.0, 0.4);
+  CorridorCase c;
+  c.target =
+      std::make_unique<MatchTarget>(testing::GridFromScans(world, poses, Rigid2d()), options);
   const OccupancyGrid source_grid =
       testing::GridFromScans(world, {Rigid2d(13, 1, 0), Rigid2d(15, 1, 0)}, source_in_world);
-  const MatchSource source = MakeMatchSource(source_grid, Rigid2d(), options);
-  SearchWindow window;
-  window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
-  window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());
-  const MatchResult result = target.Match(source, window, MatchGates());
+  c.source = MakeMatchSource(source_grid, Rigid2d(), options);
+  c.window.center = Rigid2d(0.5 * (c.target->min_corner() + c.target->max_corner()), 0.0);
+  c.window.linear_half_extent = 0.5 * (c.target->max_corner() - c.target->min_corner());
+  return c;
+}
+
+// A stretch of straight corridor matches equally well anywhere along the corridor: ambiguous.
+TEST(MatchTargetCorridorTest, CorridorIsAmbiguous) {
+  const CorridorCase c = MakeCorridorCase(Rigid2d(14.0, 1.0, 0.4));
+  const MatchResult result = c.target->Match(c.source, c.window, MatchGates());
   EXPECT_TRUE(result.found);
   EXPECT_FALSE(result.accepted) << result.reason;
   EXPECT_GT(result.ambiguity, 0.85);
+}
+
+// Walls seen through: none at the true pose, many when the source is pushed into the rooms the
+// target saw empty, none where the target saw nothing.
+TEST_F(MatchTargetTest, CountsSourceWallsInsideSpaceTheTargetSawFree) {
+  const MatchTarget target(target_grid_, options_);
+  const OccupancyGrid source_grid =
+      testing::GridFromScans(world_, {Rigid2d(3.5, 6, 0), Rigid2d(10, 6, 0)}, Rigid2d());
+  const MatchSource source = MakeMatchSource(source_grid, Rigid2d(), options_);
+  ASSERT_GT(source.fine.size(), 200u);
+  EXPECT_LE(target.ContradictionsAt(source.fine, Rigid2d()), 5);
+  EXPECT_GE(target.ContradictionsAt(source.fine, Rigid2d(1.5, 1.5, 0.0)), 100);
+  EXPECT_EQ(target.ContradictionsAt(source.fine, Rigid2d(100.0, 0.0, 0.0)), 0);
+}
+
+// Along a corridor every shift fits: each exclusion zone passed in rules out one more of them.
+TEST(MatchTargetCorridorTest, BestOutsideSkipsEveryZone) {
+  const CorridorCase c = MakeCorridorCase(Rigid2d());
+  std::vector<ExclusionZone> zones;
+  for (int i = 0; i < 3; ++i) {
+    const auto found = c.target->BestOutside(c.source, c.window, 0.3, zones);
+    ASSERT_TRUE(found);
+    for (const ExclusionZone& zone : zones) {
+      const Rigid2d apart = zone.center.inverse() * found->pose;
+      EXPECT_TRUE(apart.translation().norm() >= zone.linear ||
+                  std::abs(apart.rotation()) >= zone.angular)
+          << "pose " << found->pose << " inside zone " << zone.center;
+    }
+    zones.push_back(ExclusionZone{found->pose, 0.5, 0.26});
+  }
 }
 
 }  // namespace

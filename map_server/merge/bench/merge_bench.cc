@@ -34,6 +34,7 @@ struct Config {
   double dt = 0.5;                // seconds between scans
   double step = 0.25;             // metres between scans
   double whole_map_ambiguity = MergeEngineOptions().whole_map_ambiguity;
+  int whole_map_min_contradictions = MergeEngineOptions().whole_map_min_contradictions;
 };
 
 struct SimRobot {
@@ -98,6 +99,7 @@ int Run(const Config& c) {
   MergeEngineOptions options;
   options.local_constraints = c.local_constraints;
   options.whole_map_ambiguity = c.whole_map_ambiguity;
+  options.whole_map_min_contradictions = c.whole_map_min_contradictions;
   MergeEngine engine(options);
   std::vector<bool> corrupted;
   int detections_total = 0, next_detection_step = 0;
@@ -269,6 +271,12 @@ int main(int argc, char** argv) {
                  "A join on matches alone waits while another alignment of the whole maps "
                  "scores this share of it (MergeEngineOptions::whole_map_ambiguity; 0: no check)")
       ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--whole-map-min-contradictions", c.whole_map_min_contradictions,
+                 "An alternative alignment of the whole maps stops blocking a join when that many "
+                 "more of their walls cross seen-free space there "
+                 "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--outlier-fraction", c.outlier_fraction, "Fraction of corrupted detections")->check(CLI::Range(0.0, 1.0));
   app.add_option("--detection-sigma", c.detection_sigma, "Detection position noise (m)");
