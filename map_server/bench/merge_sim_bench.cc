@@ -112,9 +112,8 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
     for (const RobotDetection& d : pending_detections) engine.AddDetection(d);
     pending_detections.clear();
     result->submaps += new_submaps;
-    const auto start = std::chrono::steady_clock::now();
-    const MergeUpdate update = engine.Update();
-    if (options.verbose) {
+    const auto print_events = [&](const MergeUpdate& update) {
+      if (!options.verbose) return;
       for (const AlignmentEvent& e : update.events) {
         // How far the evidence's estimate is from the truth (start frames; includes drift).
         std::string truth_error;
@@ -136,13 +135,16 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
                     e.robot_b.c_str(), e.score, e.ambiguity, e.overlap, truth_error.c_str(),
                     e.reason.c_str());
       }
-    }
+    };
+    const auto start = std::chrono::steady_clock::now();
+    const MergeUpdate update = engine.Update();
+    print_events(update);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     update_ms.push_back(ms);
     if (new_submaps > 0) fold_ms.push_back(ms / new_submaps);
     // Postponed searches, as the server's worker runs them while idle.
-    for (int i = 0; i < 1000 && engine.HasPendingWork(); ++i) engine.Update();
+    for (int i = 0; i < 1000 && engine.HasPendingWork(); ++i) print_events(engine.Update());
   };
   // As in the agent: each robot masks the returns off robots its camera saw (every visible
   // record, the camera's rate), whatever the upload period of the detections.

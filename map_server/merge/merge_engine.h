@@ -97,8 +97,13 @@ struct MergeEngineOptions {
   // the department the corridors repeat every 6.2 m; such a shift of the true join crosses
   // 70-160 walls, the join itself 0-4 (docs/BENCHMARKS.md, issue 8, session 21). 0 turns this
   // off (every alternative scoring nearly as well keeps the join waiting).
+  // Only a join whose own walls cross at most whole_map_max_join_contradictions such points
+  // can have its alternatives ruled out: a join turned half round in the department crossed 12
+  // and had its one-office shifts ruled out (a false merge, with an experiment not kept); the
+  // true joins measured crossed 0-5.
   int whole_map_min_contradictions = 30;
   double whole_map_contradiction_ratio = 4.0;
+  int whole_map_max_join_contradictions = 6;
   int whole_map_max_refuted = 8;
   // A submap match (no detection) is also confirmed by another submap of the same robot matching
   // at the pose it predicts, when the whole-map check then finds nothing as good. Without this a

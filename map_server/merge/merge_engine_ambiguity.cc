@@ -109,7 +109,9 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     const Rigid2d apart = b_in_a.inverse() * (other->pose * Rigid2d(-c, 0.0));
     const int other_contradictions = contradictions(other->pose);
     const bool ruled_out_by_walls =
-        options_.whole_map_min_contradictions > 0 && at_other.score <= at_candidate.score &&
+        options_.whole_map_min_contradictions > 0 &&
+        candidate_contradictions <= options_.whole_map_max_join_contradictions &&
+        at_other.score <= at_candidate.score &&
         other_contradictions >=
             options_.whole_map_min_contradictions +
                 options_.whole_map_contradiction_ratio * candidate_contradictions;
