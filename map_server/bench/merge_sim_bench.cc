@@ -325,8 +325,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--whole-map-min-contradictions", options.engine.whole_map_min_contradictions,
                  "merge engine: an alternative alignment of the whole maps stops blocking a join "
-                 "when that many more of their walls cross seen-free space there "
-                 "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
+                 "when their walls cross seen-free space there at this many points plus 4 times "
+                 "the join's (MergeEngineOptions::whole_map_min_contradictions; 0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--seeds", seeds,

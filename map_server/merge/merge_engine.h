@@ -95,12 +95,11 @@ struct MergeEngineOptions {
   // to whole_map_max_refuted of them. Only alternatives scoring no more than the join are ruled
   // out so: one that explains more of the maps keeps the join waiting whatever it crosses. In
   // the department the corridors repeat every 6.2 m; such a shift of the true join crosses
-  // 70-160 walls, the join itself 0-4 (docs/BENCHMARKS.md, issue 8, session 21). 0 turns this
-  // off (every alternative scoring nearly as well keeps the join waiting).
-  // Only a join whose own walls cross at most whole_map_max_join_contradictions such points
-  // can have its alternatives ruled out: a join turned half round in the department crossed 12
-  // and had its one-office shifts ruled out (a false merge, with an experiment not kept); the
-  // true joins measured crossed 0-5.
+  // 70-160 walls, the true joins 0-5 (docs/BENCHMARKS.md, issue 8, session 21). Only a join
+  // whose own walls cross at most whole_map_max_join_contradictions points can rule anything
+  // out: a join turned half round there crossed 12, and ruling out its one-office shifts made a
+  // false merge. whole_map_min_contradictions 0 turns this off (every alternative scoring nearly
+  // as well keeps the join waiting).
   int whole_map_min_contradictions = 30;
   double whole_map_contradiction_ratio = 4.0;
   int whole_map_max_join_contradictions = 6;

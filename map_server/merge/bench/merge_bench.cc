@@ -274,7 +274,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--whole-map-min-contradictions", c.whole_map_min_contradictions,
                  "An alternative alignment of the whole maps stops blocking a join when that many "
-                 "more of their walls cross seen-free space there "
+                 "of their walls cross seen-free space there, plus 4 times the join's "
                  "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
