@@ -42,8 +42,7 @@ class AgentBinaryTest : public ::testing::Test {
     if (!std::filesystem::exists(AgentBinary())) {
       GTEST_SKIP() << "fleetmap-agent not built (binary dir " << BinaryDir() << ")";
     }
-    dir_ = testing::MakeTempDir("agent_e2e");
-    log_ = dir_ + "/drive.log";
+    log_ = dir_.path() + "/drive.log";
     ASSERT_TRUE(testing::WriteSyntheticLog(log_, kScans));
   }
 
@@ -51,7 +50,7 @@ class AgentBinaryTest : public ::testing::Test {
   std::string WriteConfig(int port, const std::string& speed = "max",
                           const std::string& extra = "",
                           const std::string& algorithm = "scan-matching") {
-    const std::string path = dir_ + "/robot.yaml";
+    const std::string path = dir_.path() + "/robot.yaml";
     std::ofstream(path) << "robot: {id: r1, name: e2e robot, start_pose: {x: " << kStartPose.x()
                         << ", y: " << kStartPose.y() << ", theta: " << kStartPose.rotation()
                         << "}}\n"
@@ -71,12 +70,12 @@ class AgentBinaryTest : public ::testing::Test {
                                          bool stay = false) {
     std::vector<std::string> args = {"--config", config};
     if (stay) args.push_back("--stay");
-    return std::make_unique<ChildProcess>(AgentBinary(), args, dir_ + "/" + name + ".out");
+    return std::make_unique<ChildProcess>(AgentBinary(), args, dir_.path() + "/" + name + ".out");
   }
 
   void MapsTheLogAndTheMergedMapMatchesTheTruth(const std::string& algorithm, int min_submaps);
 
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"agent_e2e"};  // outlives the processes of each test
   std::string log_;
 };
 
@@ -152,13 +151,13 @@ MapScore ScoreMap(const QuantizedGrid& grid) {
 // matches the synthetic room.
 void AgentBinaryTest::MapsTheLogAndTheMergedMapMatchesTheTruth(const std::string& algorithm,
                                                                 int min_submaps) {
-  ChildProcess server(
-      ServerBinary(),
-      {"--db", dir_ + "/server.db", "--listen", "127.0.0.1:0", "--port-file", dir_ + "/port"},
-      dir_ + "/server.out");
+  ChildProcess server(ServerBinary(),
+                      {"--db", dir_.path() + "/server.db", "--listen", "127.0.0.1:0", "--port-file",
+                       dir_.path() + "/port"},
+                      dir_.path() + "/server.out");
   int port = 0;
   for (int i = 0; i < 500 && port == 0; ++i) {
-    port = std::atoi(testing::ReadFile(dir_ + "/port").c_str());
+    port = std::atoi(testing::ReadFile(dir_.path() + "/port").c_str());
     if (port == 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   ASSERT_GT(port, 0) << server.Output();
@@ -167,13 +166,13 @@ void AgentBinaryTest::MapsTheLogAndTheMergedMapMatchesTheTruth(const std::string
   auto agent = RunAgent(WriteConfig(port, "max", "", algorithm), "agent", /*stay=*/true);
   for (int i = 0; i < 600; ++i) {
     if (agent->Output().find("staying until") != std::string::npos &&
-        std::filesystem::exists(dir_ + "/global.pgm")) {
+        std::filesystem::exists(dir_.path() + "/global.pgm")) {
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   // The agent keeps the newest global map it follows.
-  EXPECT_TRUE(std::filesystem::exists(dir_ + "/global.pgm")) << agent->Output();
+  EXPECT_TRUE(std::filesystem::exists(dir_.path() + "/global.pgm")) << agent->Output();
   agent->Signal(SIGTERM);
   const std::optional<int> code = agent->Wait(60.0);
   ASSERT_TRUE(code.has_value()) << agent->Output();
@@ -241,7 +240,7 @@ TEST_F(AgentBinaryTest, MapsALogWithTheRbpfBackend) {
 }
 
 TEST_F(AgentBinaryTest, RestartedAgentDuplicatesNothing) {
-  auto server = testing::StartServer(0, dir_ + "/server.db");
+  auto server = testing::StartServer(0, dir_.path() + "/server.db");
   ASSERT_NE(server, nullptr);
   const std::string config = WriteConfig(server->port());
   auto first = RunAgent(config, "first");
@@ -270,7 +269,7 @@ TEST_F(AgentBinaryTest, ServerUnavailableThenBackDrainsEverythingOnce) {
   std::this_thread::sleep_for(std::chrono::seconds(3));
   EXPECT_FALSE(agent->Wait(0.0).has_value()) << agent->Output();
   EXPECT_THAT(agent->Output(), HasSubstr("server disconnected"));
-  auto server = testing::RestartServer(port, dir_ + "/server.db");
+  auto server = testing::RestartServer(port, dir_.path() + "/server.db");
   ASSERT_NE(server, nullptr);
   ASSERT_EQ(agent->Wait(120.0), std::optional<int>(0)) << agent->Output();
   const std::string output = agent->Output();
@@ -282,7 +281,7 @@ TEST_F(AgentBinaryTest, ServerUnavailableThenBackDrainsEverythingOnce) {
 }
 
 TEST_F(AgentBinaryTest, SigintFlushesAndExitsZeroAndARerunCompletesTheMap) {
-  auto server = testing::StartServer(0, dir_ + "/server.db");
+  auto server = testing::StartServer(0, dir_.path() + "/server.db");
   ASSERT_NE(server, nullptr);
   // Real time: 30 s of data; interrupted after about 3.
   auto agent = RunAgent(WriteConfig(server->port(), "realtime"), "agent");

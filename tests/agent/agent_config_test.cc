@@ -14,10 +14,7 @@ using ::testing::HasSubstr;
 
 class AgentConfigTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = testing::MakeTempDir("agent_config");
-    std::ofstream(dir_ + "/robot.log") << "# empty log\n";
-  }
+  void SetUp() override { std::ofstream(dir_.path() + "/robot.log") << "# empty log\n"; }
   std::string Base() const {
     return R"(
 robot:
@@ -55,9 +52,9 @@ status:
     return text;
   }
   bool Parse(const std::string& text, AgentConfig* config, std::string* error) const {
-    return ParseAgentConfig(text, "robot.yaml", dir_, config, error);
+    return ParseAgentConfig(text, "robot.yaml", dir_.path(), config, error);
   }
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"agent_config"};
 };
 
 TEST_F(AgentConfigTest, ParsesEveryField) {
@@ -69,15 +66,15 @@ TEST_F(AgentConfigTest, ParsesEveryField) {
   ASSERT_TRUE(config.start_pose.has_value());
   EXPECT_THAT(*config.start_pose, testing::IsNearPose(Rigid2d(1.5, -2.0, 0.5), 1e-12, 1e-12));
   EXPECT_EQ(config.server_address, "127.0.0.1:50051");
-  EXPECT_EQ(config.outbox_path, dir_ + "/r1-outbox.db");  // relative to the file
+  EXPECT_EQ(config.outbox_path, dir_.path() + "/r1-outbox.db");  // relative to the file
   EXPECT_EQ(config.slam.submap_scans, 50);
   EXPECT_EQ(config.source.type, SourceConfig::Type::kCarmen);
-  EXPECT_EQ(config.source.log_path, dir_ + "/robot.log");
+  EXPECT_EQ(config.source.log_path, dir_.path() + "/robot.log");
   EXPECT_DOUBLE_EQ(config.source.speed, 1.0);
   EXPECT_EQ(config.upload.uploader.max_batch_items, 16);
   EXPECT_DOUBLE_EQ(config.upload.uploader.backoff.max, 5.0);
   EXPECT_DOUBLE_EQ(config.upload.trajectory_period, 2.0);
-  EXPECT_EQ(config.map.file, dir_ + "/global");
+  EXPECT_EQ(config.map.file, dir_.path() + "/global");
   EXPECT_DOUBLE_EQ(config.status_period, 1.0);
 }
 
@@ -163,17 +160,17 @@ TEST_F(AgentConfigTest, BrokenYamlAndMissingFile) {
   EXPECT_THAT(error, HasSubstr("robot.yaml: not valid YAML"));
   EXPECT_FALSE(Parse("- a\n- b\n", &config, &error));
   EXPECT_THAT(error, HasSubstr("expected a map"));
-  EXPECT_FALSE(LoadAgentConfig(dir_ + "/absent.yaml", &config, &error));
+  EXPECT_FALSE(LoadAgentConfig(dir_.path() + "/absent.yaml", &config, &error));
   EXPECT_THAT(error, HasSubstr("absent.yaml: cannot read"));
 }
 
 TEST_F(AgentConfigTest, LoadResolvesPathsAgainstTheFile) {
-  const std::string path = dir_ + "/robot.yaml";
+  const std::string path = dir_.path() + "/robot.yaml";
   std::ofstream(path) << Base();
   AgentConfig config;
   std::string error;
   ASSERT_TRUE(LoadAgentConfig(path, &config, &error)) << error;
-  EXPECT_EQ(config.source.log_path, dir_ + "/robot.log");
+  EXPECT_EQ(config.source.log_path, dir_.path() + "/robot.log");
 }
 
 }  // namespace

@@ -17,9 +17,8 @@ using ::testing::HasSubstr;
 class DetectionConfigTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = testing::MakeTempDir("detection_config");
-    std::ofstream(dir_ + "/robot.log") << "# empty log\n";
-    std::ofstream(dir_ + "/frames.txt") << "# no frames\n";
+    std::ofstream(dir_.path() + "/robot.log") << "# empty log\n";
+    std::ofstream(dir_.path() + "/frames.txt") << "# no frames\n";
   }
   // A log source with camera frames, plus `detection` (indented YAML lines).
   bool ParseLog(const std::string& detection, AgentConfig* config, std::string* error,
@@ -28,7 +27,7 @@ class DetectionConfigTest : public ::testing::Test {
         "robot: {id: r1}\noutbox: {path: o.db}\nsource:\n  carmen: {log: "
         "robot.log, " +
         camera + "}\ndetection:\n" + detection;
-    return ParseAgentConfig(text, "robot.yaml", dir_, config, error);
+    return ParseAgentConfig(text, "robot.yaml", dir_.path(), config, error);
   }
   bool ParseSim(const std::string& detection, bool camera, AgentConfig* config,
                 std::string* error) const {
@@ -36,9 +35,9 @@ class DetectionConfigTest : public ::testing::Test {
         "robot: {id: robot1}\noutbox: {path: o.db}\nsource:\n  simulator: {scenario: "
         "department_3robots, robot: robot1, camera: " +
         std::string(camera ? "true" : "false") + "}\ndetection:\n" + detection;
-    return ParseAgentConfig(text, "robot.yaml", dir_, config, error);
+    return ParseAgentConfig(text, "robot.yaml", dir_.path(), config, error);
   }
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"detection_config"};
 };
 
 TEST_F(DetectionConfigTest, ReadsEveryField) {

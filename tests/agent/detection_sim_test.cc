@@ -80,7 +80,8 @@ AgentConfig SimAgentConfig(const std::string& scenario, const std::string& robot
 }
 
 TEST(AgentDetectionTest, SimulatorSetupLearnsEveryMarkerColour) {
-  const std::string scenario = WriteScenario(testing::MakeTempDir("agent_detect_setup"));
+  const testing::ScopedTempDir dir("agent_detect_setup");
+  const std::string scenario = WriteScenario(dir.path());
   std::string error;
   auto source = SimSource::Open(scenario, "robot1", true, &error);
   ASSERT_NE(source, nullptr) << error;
@@ -98,7 +99,8 @@ TEST(AgentDetectionTest, SimulatorSetupLearnsEveryMarkerColour) {
 }
 
 TEST(AgentDetectionTest, DetectionsOfTheOtherRobotReachTheServerAndMatchGroundTruth) {
-  const std::string dir = testing::MakeTempDir("agent_detect_sim");
+  const testing::ScopedTempDir temp("agent_detect_sim");
+  const std::string& dir = temp.path();
   const std::string scenario = WriteScenario(dir);
   const auto truth = GroundTruth(scenario);
   ASSERT_FALSE(truth.empty());

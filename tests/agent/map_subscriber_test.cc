@@ -49,7 +49,8 @@ void Upload(int port, Outbox* outbox, int64_t first_id, int count) {
 }
 
 TEST(MapSubscriberTest, FollowsVersionsAndResumesAfterAServerRestart) {
-  const std::string dir = testing::MakeTempDir("subscriber");
+  const testing::ScopedTempDir temp("subscriber");
+  const std::string& dir = temp.path();
   const std::string db = dir + "/server.db";
   std::string error;
   auto outbox = Outbox::Open(dir + "/outbox.db", &error);

@@ -48,7 +48,8 @@ int64_t Pending(Outbox* outbox) {
 }
 
 TEST(OutageTest, OutboxGrowsWhileTheServerIsAwayThenDrains) {
-  const std::string dir = testing::MakeTempDir("outage");
+  const testing::ScopedTempDir temp("outage");
+  const std::string& dir = temp.path();
   const std::string db = dir + "/server.db";
   std::string error;
   auto outbox = Outbox::Open(dir + "/outbox.db", &error);
@@ -91,7 +92,8 @@ TEST(OutageTest, OutboxGrowsWhileTheServerIsAwayThenDrains) {
 }
 
 TEST(OutageTest, ServerLosingItsDatabaseGetsTheRobotRegisteredAgain) {
-  const std::string dir = testing::MakeTempDir("outage");
+  const testing::ScopedTempDir temp("outage");
+  const std::string& dir = temp.path();
   std::string error;
   auto outbox = Outbox::Open(dir + "/outbox.db", &error);
   ASSERT_NE(outbox, nullptr) << error;

@@ -17,7 +17,6 @@ using ::testing::HasSubstr;
 
 class OutboxTest : public ::testing::Test {
  protected:
-  void SetUp() override { path_ = testing::MakeTempDir("outbox") + "/outbox.db"; }
   std::unique_ptr<Outbox> Open() {
     std::string error;
     auto outbox = Outbox::Open(path_, &error);
@@ -47,7 +46,8 @@ class OutboxTest : public ::testing::Test {
     EXPECT_TRUE(outbox->Counts(&counts, &error)) << error;
     return counts;
   }
-  std::string path_;
+  const testing::ScopedTempDir dir_{"outbox"};
+  const std::string path_ = dir_.path() + "/outbox.db";
 };
 
 TEST_F(OutboxTest, PersistsAcrossReopenInInsertionOrder) {

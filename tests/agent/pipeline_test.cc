@@ -36,8 +36,9 @@ std::vector<OutboxItem> All(Outbox* outbox, OutboxKind kind) {
 }
 
 TEST(MappingPipelineTest, QueuesFinishedSubmapsAndTrajectoryRevisions) {
+  const testing::ScopedTempDir dir("pipeline");
   std::string error;
-  auto outbox = Outbox::Open(testing::MakeTempDir("pipeline") + "/o.db", &error);
+  auto outbox = Outbox::Open(dir.path() + "/o.db", &error);
   ASSERT_NE(outbox, nullptr) << error;
   int notifications = 0;
   auto pipeline = MakePipeline(outbox.get(), &notifications);
@@ -85,8 +86,9 @@ TEST(MappingPipelineTest, QueuesFinishedSubmapsAndTrajectoryRevisions) {
 }
 
 TEST(MappingPipelineTest, ReplayingTheSameDataQueuesNothingNew) {
+  const testing::ScopedTempDir dir("pipeline");
   std::string error;
-  auto outbox = Outbox::Open(testing::MakeTempDir("pipeline") + "/o.db", &error);
+  auto outbox = Outbox::Open(dir.path() + "/o.db", &error);
   ASSERT_NE(outbox, nullptr) << error;
   const auto events = testing::SyntheticDrive(120);
   std::vector<OutboxItem> first;
@@ -138,8 +140,9 @@ TEST(MappingPipelineTest, MasksRoundBodiesTheLaserFindsWhenAsked) {
     }
     ASSERT_GT(on_other, 200);
     for (const double radius : {0.0, 0.2}) {
+      const testing::ScopedTempDir dir("pipeline");
       std::string error;
-      auto outbox = Outbox::Open(testing::MakeTempDir("pipeline") + "/o.db", &error);
+      auto outbox = Outbox::Open(dir.path() + "/o.db", &error);
       ASSERT_NE(outbox, nullptr) << error;
       int notifications = 0;
       auto pipeline = MakePipeline(outbox.get(), &notifications, radius);
@@ -162,8 +165,9 @@ TEST(MappingPipelineTest, MasksRoundBodiesTheLaserFindsWhenAsked) {
 }
 
 TEST(MappingPipelineTest, DetectionsGetDeterministicIds) {
+  const testing::ScopedTempDir dir("pipeline");
   std::string error;
-  auto outbox = Outbox::Open(testing::MakeTempDir("pipeline") + "/o.db", &error);
+  auto outbox = Outbox::Open(dir.path() + "/o.db", &error);
   ASSERT_NE(outbox, nullptr) << error;
   int notifications = 0;
   auto pipeline = MakePipeline(outbox.get(), &notifications);

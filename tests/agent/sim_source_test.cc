@@ -33,7 +33,8 @@ TEST(SimSourceTest, LocalSlamOnASimulatedRobotFollowsTheGroundTruth) {
   ASSERT_NE(source, nullptr) << error;
   EXPECT_EQ(source->Describe(), "simulator department_3robots, robot robot2");
 
-  auto outbox = Outbox::Open(testing::MakeTempDir("sim_source") + "/o.db", &error);
+  const testing::ScopedTempDir dir("sim_source");
+  auto outbox = Outbox::Open(dir.path() + "/o.db", &error);
   ASSERT_NE(outbox, nullptr) << error;
   auto slam = CreateLocalSlam(SlamConfig(), "robot2", &error);
   ASSERT_NE(slam, nullptr) << error;

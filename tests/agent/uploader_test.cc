@@ -41,7 +41,7 @@ class UploaderTest : public ::testing::Test {
  protected:
   void SetUp() override {
     std::string error;
-    outbox_ = Outbox::Open(testing::MakeTempDir("uploader") + "/outbox.db", &error);
+    outbox_ = Outbox::Open(dir_.path() + "/outbox.db", &error);
     ASSERT_NE(outbox_, nullptr) << error;
     server_ = testing::StartServer(0);
     ASSERT_NE(server_, nullptr);
@@ -51,6 +51,7 @@ class UploaderTest : public ::testing::Test {
     std::string error;
     ASSERT_TRUE(outbox_->Enqueue(key, payload, 0.0, true, &inserted, &error)) << error;
   }
+  const testing::ScopedTempDir dir_{"uploader"};  // outlives the outbox below
   std::unique_ptr<Outbox> outbox_;
   std::unique_ptr<MapServer> server_;
 };
@@ -139,8 +140,7 @@ TEST_F(UploaderTest, OlderRevisionsThanTheServerHoldsAreDroppedAsSuperseded) {
   // The server already holds revision 5 of submap 0 and trajectory revision 10 (e.g. from
   // before the agent restarted and replayed its data).
   {
-    std::unique_ptr<Outbox> other =
-        Outbox::Open(testing::MakeTempDir("uploader") + "/other.db", nullptr);
+    std::unique_ptr<Outbox> other = Outbox::Open(dir_.path() + "/other.db", nullptr);
     ASSERT_NE(other, nullptr);
     bool inserted;
     other->Enqueue({"r1", OutboxKind::kSubmap, 0, 5}, testing::SubmapPayload("r1", 0, 5), 0.0, true,

@@ -39,7 +39,8 @@ TEST(ColourTest, LookupTableClassifiesByHue) {
 }
 
 TEST(ColourTest, ModelSurvivesYamlRoundTrip) {
-  const std::string dir = testing::MakeTempDir("colour_model");
+  const testing::ScopedTempDir temp("colour_model");
+  const std::string& dir = temp.path();
   const std::string path = dir + "/model.yaml";
   std::string error;
   ASSERT_TRUE(WriteColourModel(path, GreenAndRed(), &error)) << error;
@@ -52,7 +53,8 @@ TEST(ColourTest, ModelSurvivesYamlRoundTrip) {
 }
 
 TEST(ColourTest, BadModelFilesGiveMessages) {
-  const std::string dir = testing::MakeTempDir("colour_model_bad");
+  const testing::ScopedTempDir temp("colour_model_bad");
+  const std::string& dir = temp.path();
   ColourModel model;
   std::string error;
   EXPECT_FALSE(ReadColourModel(dir + "/missing.yaml", &model, &error));

@@ -11,8 +11,7 @@ namespace fleetmap {
 namespace {
 
 // A minimal simulator output folder in the formats of robot_agent/sim/output_writer.cc.
-std::string WriteFakeRun() {
-  const std::string dir = testing::MakeTempDir("sim_dataset");
+void WriteFakeRun(const std::string& dir) {
   std::ofstream(dir + "/manifest.yaml")
       << "robot_body: {radius: 0.200, body_height: 0.350, marker_radius: 0.200, "
          "marker_z_min: 0.350, marker_z_max: 0.650}\n"
@@ -32,11 +31,12 @@ std::string WriteFakeRun() {
       << "# timestamp observer observed range bearing rel_x rel_y rel_theta in_camera_fov "
          "occluded visible image_u image_width\n"
          "0.200000 robot1 robot2 3.0000 0.00000 3.0000 0.0000 3.14159 yes no yes 320.0 38.0\n";
-  return dir;
 }
 
 TEST(SimDatasetTest, ReadsManifestIndexAndVisibility) {
-  const std::string dir = WriteFakeRun();
+  const testing::ScopedTempDir temp("sim_dataset");
+  const std::string& dir = temp.path();
+  WriteFakeRun(dir);
   SimDataset data;
   std::string error;
   ASSERT_TRUE(ReadSimDataset(dir, &data, &error)) << error;
@@ -54,7 +54,9 @@ TEST(SimDatasetTest, ReadsManifestIndexAndVisibility) {
 }
 
 TEST(SimDatasetTest, BrokenFilesGiveMessages) {
-  const std::string dir = WriteFakeRun();
+  const testing::ScopedTempDir temp("sim_dataset");
+  const std::string& dir = temp.path();
+  WriteFakeRun(dir);
   SimDataset data;
   std::string error;
   std::ofstream(dir + "/visibility.txt") << "0.2 robot1 robot2 3.0\n";

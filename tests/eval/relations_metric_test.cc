@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 
 #include "shared/eval/relations_file.h"
@@ -121,14 +120,12 @@ TEST(RelationsMetricTest, EmptyInputsGiveZeroUsed) {
 
 class RelationsFileTest : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = testing::MakeTempDir("fleetmap-relations"); }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string Write(const std::string& text) {
-    const std::string path = dir_ + "/r.relations";
+    const std::string path = dir_.path() + "/r.relations";
     std::ofstream(path) << text;
     return path;
   }
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"fleetmap-relations"};
 };
 
 TEST_F(RelationsFileTest, ReadsBenchmarkLines) {
@@ -153,7 +150,7 @@ TEST_F(RelationsFileTest, BadLinesNameFileAndLine) {
   EXPECT_NE(error.find(":2: expected 8 values"), std::string::npos) << error;
   EXPECT_FALSE(ReadRelations(Write("1 2 3 4 5 6 7 nan\n"), &relations, &error));
   EXPECT_NE(error.find(":1: value 8"), std::string::npos) << error;
-  EXPECT_FALSE(ReadRelations(dir_ + "/missing", &relations, &error));
+  EXPECT_FALSE(ReadRelations(dir_.path() + "/missing", &relations, &error));
   EXPECT_NE(error.find("missing"), std::string::npos) << error;
 }
 

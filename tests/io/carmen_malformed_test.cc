@@ -62,14 +62,12 @@ std::vector<BadLine> BadLines() {
 
 class CarmenMalformedTest : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = testing::MakeTempDir("fleetmap-carmen-malformed"); }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string Write(const std::string& name, const std::string& text) {
-    const std::string path = dir_ + "/" + name;
+    const std::string path = dir_.path() + "/" + name;
     std::ofstream(path, std::ios::binary) << text;
     return path;
   }
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"fleetmap-carmen-malformed"};
 };
 
 TEST_F(CarmenMalformedTest, EachBadLineStopsWithFileAndLineNumber) {
@@ -133,7 +131,7 @@ TEST_F(CarmenMalformedTest, TruncatedCompressedFileIsAnError) {
   // Compress a log, then cut the file in half.
   std::string text;
   for (int i = 0; i < 2000; ++i) text += kGoodFlaser;
-  gzFile gz = gzopen((dir_ + "/long.clf.gz").c_str(), "wb");
+  gzFile gz = gzopen((dir_.path() + "/long.clf.gz").c_str(), "wb");
   ASSERT_NE(gz, nullptr);
   gzwrite(gz, text.data(), static_cast<unsigned>(text.size()));
   gzclose(gz);
@@ -145,7 +143,7 @@ TEST_F(CarmenMalformedTest, TruncatedCompressedFileIsAnError) {
   Write("long.clf.bz2", std::string(bz.data(), bz_size));
   for (const char* name : {"long.clf.bz2", "long.clf.gz"}) {
     SCOPED_TRACE(name);
-    const std::string full = dir_ + "/" + std::string(name);
+    const std::string full = dir_.path() + "/" + std::string(name);
     const auto size = std::filesystem::file_size(full);
     std::filesystem::resize_file(full, size / 2);
     std::string error;

@@ -5,7 +5,6 @@
 #include <zlib.h>
 
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -19,16 +18,13 @@ using testing::IsNearPose;
 
 class CarmenReaderTest : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = testing::MakeTempDir("fleetmap-carmen-reader"); }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
   std::string WritePlain(const std::string& name, const std::string& text) {
-    const std::string path = dir_ + "/" + name;
+    const std::string path = dir_.path() + "/" + name;
     std::ofstream(path, std::ios::binary) << text;
     return path;
   }
   std::string WriteGzip(const std::string& name, const std::string& text) {
-    const std::string path = dir_ + "/" + name;
+    const std::string path = dir_.path() + "/" + name;
     gzFile file = gzopen(path.c_str(), "wb");
     EXPECT_NE(file, nullptr);
     EXPECT_EQ(gzwrite(file, text.data(), static_cast<unsigned>(text.size())),
@@ -44,7 +40,7 @@ class CarmenReaderTest : public ::testing::Test {
                                        static_cast<unsigned>(copy.size()), 9, 0, 0),
               BZ_OK);
     out.resize(out_size);
-    const std::string path = dir_ + "/" + name;
+    const std::string path = dir_.path() + "/" + name;
     std::ofstream(path, std::ios::binary).write(out.data(), static_cast<long>(out.size()));
     return path;
   }
@@ -60,7 +56,7 @@ class CarmenReaderTest : public ::testing::Test {
     return error->empty();
   }
 
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"fleetmap-carmen-reader"};
   std::unique_ptr<CarmenReader> reader_;
 };
 
@@ -176,7 +172,7 @@ TEST_F(CarmenReaderTest, ConcatenatedCompressedStreamsReadAsOne) {
   for (const auto& [a, b] : {std::pair(gz_a, gz_b), std::pair(bz_a, bz_b)}) {
     std::ifstream in_a(a, std::ios::binary);
     std::ifstream in_b(b, std::ios::binary);
-    const std::string joined = dir_ + "/joined";
+    const std::string joined = dir_.path() + "/joined";
     std::ofstream(joined, std::ios::binary) << in_a.rdbuf() << in_b.rdbuf();
     std::vector<CarmenRecord> records;
     std::string error;
@@ -280,7 +276,7 @@ TEST_F(CarmenReaderTest, WindowsLineEndingsAndNoFinalNewline) {
 
 TEST_F(CarmenReaderTest, MissingFileIsAnError) {
   std::string error;
-  EXPECT_EQ(CarmenReader::Open(dir_ + "/nope.clf", CarmenReaderOptions(), &error), nullptr);
+  EXPECT_EQ(CarmenReader::Open(dir_.path() + "/nope.clf", CarmenReaderOptions(), &error), nullptr);
   EXPECT_NE(error.find("nope.clf"), std::string::npos) << error;
 }
 

@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -18,8 +17,6 @@ using testing::IsNearPose;
 
 class CarmenWriterTest : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = testing::MakeTempDir("fleetmap-carmen-writer"); }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
   std::vector<CarmenRecord> ReadBack(const std::string& path) {
     std::string error;
     auto reader = CarmenReader::Open(path, CarmenReaderOptions(), &error);
@@ -31,7 +28,7 @@ class CarmenWriterTest : public ::testing::Test {
     EXPECT_EQ(reader->error(), "");
     return records;
   }
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"fleetmap-carmen-writer"};
 };
 
 LaserRecord MakeLaser(double timestamp, const Rigid2d& robot_pose, int beams, float angle_min,
@@ -65,7 +62,7 @@ void ExpectSameLaser(const LaserRecord& actual, const LaserRecord& expected) {
 }
 
 TEST_F(CarmenWriterTest, FlaserOdometryAndParamsRoundTrip) {
-  const std::string path = dir_ + "/round.clf";
+  const std::string path = dir_.path() + "/round.clf";
   const LaserRecord flaser =
       MakeLaser(976052857.337530, Rigid2d(1.5, -2.25, 3.0), 180, static_cast<float>(-M_PI / 2),
                 static_cast<float>(M_PI / 180), 8.0f, Rigid2d(-0.04, 0.0, 0.0));
@@ -116,7 +113,7 @@ TEST_F(CarmenWriterTest, FlaserOdometryAndParamsRoundTrip) {
 }
 
 TEST_F(CarmenWriterTest, OtherFieldsOfViewBecomeRobotLaser) {
-  const std::string path = dir_ + "/wide.clf";
+  const std::string path = dir_.path() + "/wide.clf";
   // A 270 degree scanner with a mount 0.2 m ahead, turned by 0.1 rad.
   const LaserRecord wide =
       MakeLaser(12.25, Rigid2d(1.0, 2.0, 0.3), 541, static_cast<float>(-3 * M_PI / 4),
@@ -136,7 +133,7 @@ TEST_F(CarmenWriterTest, OtherFieldsOfViewBecomeRobotLaser) {
 }
 
 TEST_F(CarmenWriterTest, UnwritablePathReportsFailure) {
-  CarmenWriter writer(dir_ + "/no/such/dir/log.clf");
+  CarmenWriter writer(dir_.path() + "/no/such/dir/log.clf");
   EXPECT_FALSE(writer.ok());
 }
 

@@ -1,9 +1,8 @@
 #include "shared/io/map_file.h"
 
-#include <filesystem>
-#include <fstream>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 
 #include "tests/support/test_support.h"
 
@@ -12,13 +11,11 @@ namespace {
 
 class MapFileTest : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = testing::MakeTempDir("fleetmap-map-file"); }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
+  std::string Path(const std::string& name) const { return dir_.path() + "/" + name; }
   void WriteText(const std::string& name, const std::string& text) const {
     std::ofstream(Path(name)) << text;
   }
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"fleetmap-map-file"};
 };
 
 OccupancyGrid MakeRoomGrid() {

@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <fstream>
 
 #include "tests/support/test_support.h"
@@ -14,21 +13,19 @@ using testing::IsNearPose;
 
 class TrajectoryFileTest : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = testing::MakeTempDir("fleetmap-trajectory-file"); }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string Write(const std::string& text) {
-    const std::string path = dir_ + "/t.txt";
+    const std::string path = dir_.path() + "/t.txt";
     std::ofstream(path) << text;
     return path;
   }
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"fleetmap-trajectory-file"};
 };
 
 TEST_F(TrajectoryFileTest, RoundTripKeepsMicrosecondTimestamps) {
   const Trajectory trajectory = {{976052857.337530, Rigid2d(1.25, -3.5, 0.75)},
                                  {976052857.348896, Rigid2d(-100.123456, 0.0, -3.0)},
                                  {976052857.348896, Rigid2d(0.0, 1e-6, 3.1)}};
-  const std::string path = dir_ + "/round.txt";
+  const std::string path = dir_.path() + "/round.txt";
   std::string error;
   ASSERT_TRUE(WriteTrajectory(path, trajectory, &error)) << error;
   Trajectory read;
@@ -81,9 +78,9 @@ TEST_F(TrajectoryFileTest, OutOfOrderTimestampsKeepFileOrder) {
 TEST_F(TrajectoryFileTest, MissingFileAndUnwritablePath) {
   Trajectory read;
   std::string error;
-  EXPECT_FALSE(ReadTrajectory(dir_ + "/missing.txt", &read, &error));
+  EXPECT_FALSE(ReadTrajectory(dir_.path() + "/missing.txt", &read, &error));
   EXPECT_NE(error.find("missing.txt"), std::string::npos);
-  EXPECT_FALSE(WriteTrajectory(dir_ + "/no/dir/t.txt", Trajectory(), &error));
+  EXPECT_FALSE(WriteTrajectory(dir_.path() + "/no/dir/t.txt", Trajectory(), &error));
   EXPECT_NE(error.find("cannot write"), std::string::npos);
 }
 

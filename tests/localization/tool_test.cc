@@ -49,23 +49,23 @@ TEST(MrclamReaderTest, MissingAndMalformedFilesGiveClearErrors) {
   std::string error;
   EXPECT_FALSE(ReadMrclam("/nonexistent", 5, &dataset, &error));
   EXPECT_THAT(error, ::testing::HasSubstr("cannot open /nonexistent/Barcodes.dat"));
-  const std::string dir = testing::MakeTempDir("mrclam");
+  const testing::ScopedTempDir temp("mrclam");
+  const std::string& dir = temp.path();
   std::ofstream(dir + "/Barcodes.dat") << "1\t5\n";
   std::ofstream(dir + "/Landmark_Groundtruth.dat") << "18 0.1 oops\n";
   EXPECT_FALSE(ReadMrclam(dir, 1, &dataset, &error));
   EXPECT_THAT(error, ::testing::HasSubstr("Landmark_Groundtruth.dat:1"));
-  std::filesystem::remove_all(dir);
 }
 
 TEST(ErrorPlotTest, DrawsColouredLines) {
-  const std::string dir = testing::MakeTempDir("plot");
+  const testing::ScopedTempDir temp("plot");
+  const std::string& dir = temp.path();
   ErrorSeries series{"r1", {{0.0, 0.0}, {10.0, 1.0}}};
   std::string error;
   ASSERT_TRUE(WriteErrorPlot(dir + "/plot.png", {series}, ErrorPlotOptions(), &error)) << error;
   EXPECT_GT(std::filesystem::file_size(dir + "/plot.png"), 100u);
   EXPECT_DOUBLE_EQ(TickStep(1900, 10), 200);
   EXPECT_DOUBLE_EQ(TickStep(1.0, 8), 0.2);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

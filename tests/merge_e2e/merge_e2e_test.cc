@@ -53,7 +53,6 @@ class MergeE2eTest : public ::testing::Test {
   virtual MergeBounds Bounds() const { return {0.2, 0.0175, 0.70}; }
 
   void SetUp() override {
-    dir_ = testing::MakeTempDir("merge_e2e");
     build_ = testing::MergeE2eBuildDir();
     server_binary_ = build_ + "/map_server/server/fleetmap-server";
     agent_binary_ = build_ + "/robot_agent/agent/fleetmap-agent";
@@ -247,7 +246,10 @@ class MergeE2eTest : public ::testing::Test {
     EXPECT_EQ(server_->Wait(20.0), std::optional<int>(0)) << Logs();
   }
 
-  std::string dir_, build_, server_binary_, agent_binary_;
+  // First, so that it goes last: the server and the agents have stopped when it is removed.
+  const testing::ScopedTempDir temp_{"merge_e2e"};
+  const std::string dir_ = temp_.path();
+  std::string build_, server_binary_, agent_binary_;
   int port_ = 0;
   std::unique_ptr<sim::Simulation> simulation_;
   std::unique_ptr<E2eProcess> server_;

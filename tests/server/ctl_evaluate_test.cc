@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <fstream>
 
 #include "tests/support/test_support.h"
@@ -40,7 +39,8 @@ TEST(CtlEvaluateTest, KnownOffsetIsMeasuredAndUnplacedListed) {
 }
 
 TEST(CtlEvaluateTest, BadGroundTruthFilesAreErrors) {
-  const std::string dir = testing::MakeTempDir("fleetmap-evaluate");
+  const testing::ScopedTempDir temp("fleetmap-evaluate");
+  const std::string& dir = temp.path();
   std::map<std::string, Rigid2d> starts;
   std::string error;
   EXPECT_FALSE(ReadStartPoses(dir + "/missing.yaml", &starts, &error));
@@ -53,7 +53,6 @@ TEST(CtlEvaluateTest, BadGroundTruthFilesAreErrors) {
   std::ofstream(dir + "/ok.yaml") << "robots:\n  - name: a\n    start: {x: 1, y: 2, theta: 0.5}\n";
   ASSERT_TRUE(ReadStartPoses(dir + "/ok.yaml", &starts, &error)) << error;
   EXPECT_NEAR(starts.at("a").y(), 2.0, 1e-12);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

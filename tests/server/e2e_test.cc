@@ -40,7 +40,8 @@ v1::ItemAck UploadOne(v1::MapService::Stub* stub, const std::string& robot, int6
 }
 
 TEST(ServerProcessTest, CtlCommandsAgainstARunningServer) {
-  const std::string dir = testing::MakeTempDir("e2e_ctl");
+  const testing::ScopedTempDir temp("e2e_ctl");
+  const std::string& dir = temp.path();
   auto server = testing::StartServerProcess(dir + "/map.db", dir, dir + "/server.log");
   ASSERT_GT(server.port, 0) << "server did not start; see " << dir << "/server.log";
   auto stub = v1::MapService::NewStub(MakeClientChannel(server.address()));
@@ -78,11 +79,11 @@ TEST(ServerProcessTest, CtlCommandsAgainstARunningServer) {
   EXPECT_NE(RunCtl(ctl + "show 9999", &out), 0);
   EXPECT_NE(out.find("NOT_FOUND"), std::string::npos) << out;
   EXPECT_EQ(testing::StopProcess(server.pid, SIGTERM), 0) << "clean shutdown on SIGTERM";
-  std::filesystem::remove_all(dir);
 }
 
 TEST(ServerProcessTest, RefusesDatabaseFromNewerSchema) {
-  const std::string dir = testing::MakeTempDir("e2e_schema");
+  const testing::ScopedTempDir temp("e2e_schema");
+  const std::string& dir = temp.path();
   const std::string db_path = dir + "/map.db";
   {
     SqliteMapStoreOptions options;
@@ -101,12 +102,12 @@ TEST(ServerProcessTest, RefusesDatabaseFromNewerSchema) {
   std::ifstream log(dir + "/server.log");
   const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("newer than this server"), std::string::npos) << text;
-  std::filesystem::remove_all(dir);
 }
 
 // SIGKILL mid-upload: every acknowledged submap survives, nothing is stored twice.
 TEST(ServerProcessTest, KillNineLosesNoAcknowledgedUpload) {
-  const std::string dir = testing::MakeTempDir("e2e_kill");
+  const testing::ScopedTempDir temp("e2e_kill");
+  const std::string& dir = temp.path();
   const std::string db_path = dir + "/map.db";
   auto server = testing::StartServerProcess(db_path, dir, dir + "/server.log");
   ASSERT_GT(server.port, 0);
@@ -154,7 +155,6 @@ TEST(ServerProcessTest, KillNineLosesNoAcknowledgedUpload) {
   EXPECT_EQ(store->CountSubmapRevisions("r1"), next_id + 1) << "no duplicates, nothing lost";
   EXPECT_EQ(store->CountSubmapIds("r1"), next_id + 1);
   for (int64_t id : acked) EXPECT_TRUE(store->GetSubmap(SubmapKey{"r1", id, 0})) << id;
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

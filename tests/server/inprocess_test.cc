@@ -1,5 +1,4 @@
 // A real server (SQLite store, loopback port) and a real client in one process.
-#include <filesystem>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -14,9 +13,8 @@ namespace {
 class InProcessTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = testing::MakeTempDir("inprocess");
     MapServerOptions options;
-    options.db_path = dir_ + "/map.db";
+    options.db_path = dir_.path() + "/map.db";
     options.listen = "127.0.0.1:0";
     options.merge.min_version_interval = 0.05;
     options.max_request_bytes = 1 << 20;
@@ -25,12 +23,8 @@ class InProcessTest : public ::testing::Test {
     ASSERT_TRUE(server_) << error;
     stub_ = v1::MapService::NewStub(MakeClientChannel(server_->address()));
   }
-  void TearDown() override {
-    server_.reset();
-    std::filesystem::remove_all(dir_);
-  }
 
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"inprocess"};  // outlives the server below
   std::unique_ptr<MapServer> server_;
   std::unique_ptr<v1::MapService::Stub> stub_;
 };

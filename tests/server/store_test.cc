@@ -1,8 +1,8 @@
-#include <filesystem>
-#include <functional>
-
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+
+#include <functional>
+#include <optional>
 
 #include "map_server/store/memory_map_store.h"
 #include "map_server/store/sqlite_map_store.h"
@@ -31,17 +31,13 @@ class StoreTest : public ::testing::TestWithParam<bool> {
       store_ = std::make_unique<MemoryMapStore>(RetentionOptions{2});
       return;
     }
-    dir_ = testing::MakeTempDir("store_test");
+    dir_.emplace("store_test");
     SqliteMapStoreOptions options;
-    options.path = dir_ + "/map.db";
+    options.path = dir_->path() + "/map.db";
     options.retention.keep_version_grids = 2;
     std::string error;
     store_ = SqliteMapStore::Open(options, &error);
     ASSERT_TRUE(store_) << error;
-  }
-  void TearDown() override {
-    store_.reset();
-    if (!dir_.empty()) std::filesystem::remove_all(dir_);
   }
   void Register(const std::string& id) {
     bool existed;
@@ -51,7 +47,7 @@ class StoreTest : public ::testing::TestWithParam<bool> {
     ASSERT_TRUE(store_->PutRobot(robot, &existed, &error)) << error;
   }
 
-  std::string dir_;
+  std::optional<testing::ScopedTempDir> dir_;  // Sqlite only; outlives store_
   std::unique_ptr<MapStore> store_;
 };
 
@@ -142,7 +138,8 @@ INSTANTIATE_TEST_SUITE_P(MemoryAndSqlite, StoreTest, ::testing::Bool(),
                          [](const auto& info) { return info.param ? "Sqlite" : "Memory"; });
 
 TEST(SqliteStoreTest, RefusesDatabaseFromNewerSchema) {
-  const std::string dir = testing::MakeTempDir("store_schema");
+  const testing::ScopedTempDir temp("store_schema");
+  const std::string& dir = temp.path();
   SqliteMapStoreOptions options;
   options.path = dir + "/map.db";
   std::string error;
@@ -154,11 +151,11 @@ TEST(SqliteStoreTest, RefusesDatabaseFromNewerSchema) {
   sqlite3_close(db);
   EXPECT_FALSE(SqliteMapStore::Open(options, &error));
   EXPECT_NE(error.find("newer"), std::string::npos) << error;
-  std::filesystem::remove_all(dir);
 }
 
 TEST(SqliteStoreTest, DataSurvivesReopen) {
-  const std::string dir = testing::MakeTempDir("store_reopen");
+  const testing::ScopedTempDir temp("store_reopen");
+  const std::string& dir = temp.path();
   SqliteMapStoreOptions options;
   options.path = dir + "/map.db";
   std::string error;
@@ -179,7 +176,6 @@ TEST(SqliteStoreTest, DataSurvivesReopen) {
   EXPECT_THAT(*store->GetRobot("r1")->local_in_global,
               testing::IsNearPose(Rigid2d(1, 2, 3), 1e-9, 1e-9));
   EXPECT_EQ(store->CountSubmapRevisions("r1"), 1);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

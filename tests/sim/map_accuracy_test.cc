@@ -78,7 +78,8 @@ TEST(MapAccuracyTest, TheWorldAndItsFileHaveTheSameWalls) {
   builder.Carve({0.5, 0.5}, {5.5, 3.5});
   builder.Fill({2.0, 0.5}, {2.1, 2.5});
   const World world = builder.Build();
-  const std::string dir = testing::MakeTempDir("fleetmap-walls");
+  const testing::ScopedTempDir temp("fleetmap-walls");
+  const std::string& dir = temp.path();
   std::string error;
   ASSERT_TRUE(SaveWorld(dir, world, &error)) << error;
   OccupancyGrid read;

@@ -65,7 +65,8 @@ TEST(ScenarioTest, UnknownPlaceAndTypoAreNamed) {
 
 TEST(ScenarioTest, UnreachableWaypointFails) {
   // Two rooms with no door between them.
-  const std::string dir = testing::MakeTempDir("sim_unreachable");
+  const testing::ScopedTempDir temp("sim_unreachable");
+  const std::string& dir = temp.path();
   WorldBuilder builder("two_rooms", 0.05, Eigen::Vector2d(10.0, 5.0));
   builder.Carve({0.2, 0.2}, {4.8, 4.8});
   builder.Carve({5.2, 0.2}, {9.8, 4.8});
@@ -75,7 +76,6 @@ TEST(ScenarioTest, UnreachableWaypointFails) {
                     "    start: {x: 2, y: 2}\n    route: {waypoints: [[3, 3], [7, 2]]}\n",
                     dir),
               HasSubstr("r1: waypoint 2 (7, 2) at (7, 2) is unreachable"));
-  std::filesystem::remove_all(dir);
 }
 
 TEST(ScenarioTest, MalformedYamlAndBadNumbersFailCleanly) {

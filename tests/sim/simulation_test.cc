@@ -95,8 +95,10 @@ std::string RunToFolder(const std::string& dir) {
 }
 
 TEST(SimulationTest, SameSeedGivesByteIdenticalFiles) {
-  const std::string a = testing::MakeTempDir("sim_same_seed_a");
-  const std::string b = testing::MakeTempDir("sim_same_seed_b");
+  const testing::ScopedTempDir temp_a("sim_same_seed_a");
+  const testing::ScopedTempDir temp_b("sim_same_seed_b");
+  const std::string& a = temp_a.path();
+  const std::string& b = temp_b.path();
   ASSERT_EQ(RunToFolder(a), "");
   ASSERT_EQ(RunToFolder(b), "");
   int files = 0;
@@ -109,8 +111,6 @@ TEST(SimulationTest, SameSeedGivesByteIdenticalFiles) {
   // manifest, visibility, 3 x (log, ground truth, index, >= 2 frames), 3 world files
   EXPECT_GE(files, 1 + 1 + 3 * 5 + 3);
   EXPECT_TRUE(fs::exists(fs::path(a) / "robot1_camera" / "frame_000000.png"));
-  fs::remove_all(a);
-  fs::remove_all(b);
 }
 
 }  // namespace

@@ -1,4 +1,3 @@
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -52,7 +51,8 @@ TEST(WorldTest, LaserRangesInAKnownRoomMatchTheGeometry) {
 }
 
 TEST(WorldTest, RectangleWallsMeasure21Point3By17MetresInTheWrittenMap) {
-  const std::string dir = testing::MakeTempDir("sim_rectangle");
+  const testing::ScopedTempDir temp("sim_rectangle");
+  const std::string& dir = temp.path();
   std::string error;
   ASSERT_TRUE(SaveWorld(dir, MakeRectangleWorld(), &error)) << error;
   OccupancyGrid grid;
@@ -70,11 +70,11 @@ TEST(WorldTest, RectangleWallsMeasure21Point3By17MetresInTheWrittenMap) {
   const Eigen::Vector2d size = max - min + Eigen::Vector2d::Constant(grid.resolution());
   EXPECT_NEAR(size.x(), 21.3, 1e-6);
   EXPECT_NEAR(size.y(), 17.0, 1e-6);
-  std::filesystem::remove_all(dir);
 }
 
 TEST(WorldTest, ShippedWorldFilesEqualTheGenerator) {
-  const std::string dir = testing::MakeTempDir("sim_worlds");
+  const testing::ScopedTempDir temp("sim_worlds");
+  const std::string& dir = temp.path();
   for (const std::string& name : DesignedWorldNames()) {
     World world;
     ASSERT_TRUE(MakeWorldByName(name, &world));
@@ -85,7 +85,6 @@ TEST(WorldTest, ShippedWorldFilesEqualTheGenerator) {
           << name << suffix << " differs: run fleetmap-sim-worldgen";
     }
   }
-  std::filesystem::remove_all(dir);
 }
 
 TEST(WorldTest, LoadedWorldKeepsCellsAndMetadata) {

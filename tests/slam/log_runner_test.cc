@@ -22,8 +22,9 @@ std::string Flaser(const std::vector<double>& ranges, const Rigid2d& pose, doubl
   return line.str();
 }
 
-std::string WriteLog(const std::string& name, const std::string& content) {
-  const std::string path = testing::MakeTempDir("slam_log") + "/" + name;
+std::string WriteLog(const testing::ScopedTempDir& dir, const std::string& name,
+                     const std::string& content) {
+  const std::string path = dir.path() + "/" + name;
   std::ofstream(path) << content;
   return path;
 }
@@ -38,6 +39,7 @@ std::vector<double> RoomRanges(const Rigid2d& pose) {
 }
 
 TEST(LoadSlamLogTest, ReadsScansInTimeOrderWithTheirOdometry) {
+  const testing::ScopedTempDir dir("slam_log");
   std::string content = "PARAM robot_frontlaser_offset 0.0 nohost 0\n";
   content += Flaser(RoomRanges(Rigid2d()), Rigid2d(), 10.0);
   content += Flaser(RoomRanges(Rigid2d(0.2, 0.0, 0.0)), Rigid2d(0.2, 0.0, 0.0), 10.3);
@@ -45,7 +47,8 @@ TEST(LoadSlamLogTest, ReadsScansInTimeOrderWithTheirOdometry) {
   content += Flaser(RoomRanges(Rigid2d(0.1, 0.0, 0.0)), Rigid2d(0.1, 0.0, 0.0), 10.2);
   SlamLog log;
   std::string error;
-  ASSERT_TRUE(LoadSlamLog(WriteLog("ok.clf", content), SlamLogOptions(), &log, &error)) << error;
+  ASSERT_TRUE(LoadSlamLog(WriteLog(dir, "ok.clf", content), SlamLogOptions(), &log, &error))
+      << error;
   ASSERT_EQ(log.scans.size(), 3u);
   EXPECT_DOUBLE_EQ(log.scans[1].timestamp, 10.2);
   EXPECT_DOUBLE_EQ(log.odometry[1].pose.x(), 0.1);
@@ -68,40 +71,46 @@ TEST(LoadSlamLogTest, ReadsScansInTimeOrderWithTheirOdometry) {
 }
 
 TEST(LoadSlamLogTest, BadLogsFailWithAClearMessage) {
+  const testing::ScopedTempDir dir("slam_log");
   SlamLog log;
   std::string error;
   EXPECT_FALSE(LoadSlamLog("/nonexistent/log.clf", SlamLogOptions(), &log, &error));
   EXPECT_FALSE(error.empty());
 
-  EXPECT_FALSE(LoadSlamLog(WriteLog("empty.clf", ""), SlamLogOptions(), &log, &error));
+  EXPECT_FALSE(LoadSlamLog(WriteLog(dir, "empty.clf", ""), SlamLogOptions(), &log, &error));
   EXPECT_NE(error.find("no laser scans"), std::string::npos) << error;
 
   const std::string only_odometry =
       "ODOM 0 0 0 0 0 0 1.0 host 1.0\nODOM 0.1 0 0 0 0 0 1.1 host 1.1\n";
-  EXPECT_FALSE(LoadSlamLog(WriteLog("odom.clf", only_odometry), SlamLogOptions(), &log, &error));
+  EXPECT_FALSE(
+      LoadSlamLog(WriteLog(dir, "odom.clf", only_odometry), SlamLogOptions(), &log, &error));
   EXPECT_NE(error.find("no laser scans"), std::string::npos) << error;
 
   std::string no_returns;
   for (int i = 0; i < 5; ++i) no_returns += Flaser(std::vector<double>(180, 81.83), Rigid2d(0.1 * i, 0, 0), i);
-  EXPECT_FALSE(LoadSlamLog(WriteLog("noreturn.clf", no_returns), SlamLogOptions(), &log, &error));
+  EXPECT_FALSE(
+      LoadSlamLog(WriteLog(dir, "noreturn.clf", no_returns), SlamLogOptions(), &log, &error));
   EXPECT_NE(error.find("no returns"), std::string::npos) << error;
 
   std::string backwards = Flaser(RoomRanges(Rigid2d()), Rigid2d(), 100.0);
   backwards += Flaser(RoomRanges(Rigid2d()), Rigid2d(), 50.0);
-  EXPECT_FALSE(LoadSlamLog(WriteLog("backwards.clf", backwards), SlamLogOptions(), &log, &error));
+  EXPECT_FALSE(
+      LoadSlamLog(WriteLog(dir, "backwards.clf", backwards), SlamLogOptions(), &log, &error));
   EXPECT_NE(error.find("time goes backwards"), std::string::npos) << error;
   SlamLogOptions skip;
   skip.skip_out_of_order = true;
-  ASSERT_TRUE(LoadSlamLog(WriteLog("backwards.clf", backwards), skip, &log, &error)) << error;
+  ASSERT_TRUE(LoadSlamLog(WriteLog(dir, "backwards.clf", backwards), skip, &log, &error)) << error;
   EXPECT_EQ(log.scans.size(), 1u);
 }
 
 TEST(LoadSlamLogTest, ConstantOdometryIsAcceptedWithAWarning) {
+  const testing::ScopedTempDir dir("slam_log");
   std::string content;
   for (int i = 0; i < 3; ++i) content += Flaser(RoomRanges(Rigid2d(0.05 * i, 0.0, 0.0)), Rigid2d(), i);
   SlamLog log;
   std::string error;
-  ASSERT_TRUE(LoadSlamLog(WriteLog("noodom.clf", content), SlamLogOptions(), &log, &error)) << error;
+  ASSERT_TRUE(LoadSlamLog(WriteLog(dir, "noodom.clf", content), SlamLogOptions(), &log, &error))
+      << error;
   EXPECT_EQ(log.odometry_source, "none");
   ASSERT_EQ(log.warnings.size(), 1u);
   EXPECT_NE(log.warnings[0].find("odometry never changes"), std::string::npos);

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -86,7 +85,8 @@ TEST(SimulatedLapTest, ARobotDrivingAheadDoesNotHoldTheFollowerBack) {
   const std::string scenario = text.str();
   const size_t seed_at = scenario.find("\nseed: 21\n");
   ASSERT_NE(seed_at, std::string::npos);
-  const std::string dir = testing::MakeTempDir("driving_ahead");
+  const testing::ScopedTempDir temp("driving_ahead");
+  const std::string& dir = temp.path();
   for (int seed = 21; seed <= 28; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     const std::string path = dir + "/east_end_" + std::to_string(seed) + ".yaml";
@@ -99,7 +99,6 @@ TEST(SimulatedLapTest, ARobotDrivingAheadDoesNotHoldTheFollowerBack) {
     ASSERT_GT(run.estimate.size(), 300u);
     EXPECT_LT(EndPointError(run), 0.5) << slam.Statistics();
   }
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -1,12 +1,37 @@
 #include "tests/support/test_support.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <limits>
 #include <random>
+#include <stdexcept>
+#include <system_error>
 
 namespace fleetmap::testing {
+namespace {
+
+std::string NewTempDir(const std::string& prefix) {
+  std::random_device rd;
+  std::error_code error;
+  const std::filesystem::path root = std::filesystem::temp_directory_path(error);
+  if (!error) {
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      const auto path = root / (prefix + "-" + std::to_string(rd()) + std::to_string(attempt));
+      if (std::filesystem::create_directory(path, error)) return path.string();
+      if (error) break;
+    }
+  }
+  // Never fall back to the temp root itself: callers delete what they get.
+  throw std::runtime_error("cannot create a temp directory " + prefix + "-* under " +
+                           (root.empty() ? "$TMPDIR" : root.string()) + ": " +
+                           (error ? error.message() : "no unused name"));
+}
+
+}  // namespace
 
 SegmentWorld BoxWorld(const Eigen::Vector2d& min, const Eigen::Vector2d& max) {
   SegmentWorld world;
@@ -89,14 +114,16 @@ std::string SourceDir() {
   return env ? env : FLEETMAP_DEFAULT_SOURCE_DIR;
 }
 
-std::string MakeTempDir(const std::string& prefix) {
-  std::random_device rd;
-  for (int attempt = 0; attempt < 100; ++attempt) {
-    const auto path = std::filesystem::temp_directory_path() /
-                      (prefix + "-" + std::to_string(rd()) + std::to_string(attempt));
-    if (std::filesystem::create_directory(path)) return path.string();
+ScopedTempDir::ScopedTempDir(const std::string& prefix) : path_(NewTempDir(prefix)) {}
+
+ScopedTempDir::~ScopedTempDir() {
+  if (::testing::Test::HasFailure()) {
+    std::cerr << "test failed: keeping " << path_ << "\n";
+    return;
   }
-  return std::filesystem::temp_directory_path().string();
+  std::error_code error;
+  std::filesystem::remove_all(path_, error);
+  if (error) std::cerr << "cannot remove " << path_ << ": " << error.message() << "\n";
 }
 
 }  // namespace fleetmap::testing

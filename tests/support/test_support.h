@@ -53,8 +53,25 @@ std::optional<std::string> DataFile(const std::string& relative);
 std::string BinaryDir();
 std::string SourceDir();
 
-// A fresh empty directory under the system temp dir, removed by the caller if wanted.
-std::string MakeTempDir(const std::string& prefix);
+// A fresh empty directory under the system temp dir, named `prefix`-<random>, removed with
+// everything in it when this goes out of scope. Tests used to leave their folders in /tmp by
+// the hundred; this cleans up after passing tests, but keeps the folder (and prints its path to
+// stderr) when the current test has failed, so the failing run's files can be inspected.
+// Declare it before whatever writes into it (a server, a child process, an open database), so
+// that those are destroyed first. Throws std::runtime_error (a test failure) when it cannot
+// create the folder.
+class ScopedTempDir {
+ public:
+  explicit ScopedTempDir(const std::string& prefix);
+  ~ScopedTempDir();
+  ScopedTempDir(const ScopedTempDir&) = delete;
+  ScopedTempDir& operator=(const ScopedTempDir&) = delete;
+
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
 
 }  // namespace fleetmap::testing
 

@@ -43,7 +43,8 @@ double EndPointError(const Trajectory& estimate, const Trajectory& truth) {
 // robot1's local SLAM back by 1.86-2.04 m (4 seeds); returns off small objects that did not stay
 // put since the last scan now stay out of the local map.
 TEST(SlamToolTest, MapsTheFollowerOfAnotherRobotFromItsSimulatedLog) {
-  const std::string dir = testing::MakeTempDir("fleetmap-slam-tool");
+  const testing::ScopedTempDir temp("fleetmap-slam-tool");
+  const std::string& dir = temp.path();
   const std::string scenario = testing::SourceDir() + "/tests/merge_e2e/east_end_3robots.yaml";
   ASSERT_EQ(RunBinary("robot_agent/sim/fleetmap-sim", "--scenario " + scenario + " --out " + dir + "/sim --no-camera --quiet",
                 dir + "/sim.log"),
@@ -59,7 +60,6 @@ TEST(SlamToolTest, MapsTheFollowerOfAnotherRobotFromItsSimulatedLog) {
   ASSERT_FALSE(truth.empty());
   EXPECT_TRUE(std::filesystem::exists(dir + "/slam/map.pgm"));
   EXPECT_LT(EndPointError(estimate, truth), 0.5);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -48,17 +48,15 @@ std::string ToolDir() {
 class ToolsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = testing::MakeTempDir("fleetmap-tools");
     for (const char* tool : {"fleetmap-log", "fleetmap-eval"}) {
       const std::string path = ToolDir() + "/" + tool;
       if (!std::filesystem::exists(path)) GTEST_FAIL() << "tool not built: " << path;
     }
   }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
 
   RunResult Run(const std::string& tool, const std::string& args) {
-    const std::string out = dir_ + "/stdout.txt";
-    const std::string err = dir_ + "/stderr.txt";
+    const std::string out = dir_.path() + "/stdout.txt";
+    const std::string err = dir_.path() + "/stderr.txt";
     const std::string command = ToolDir() + "/" + tool + " " + args + " > " + out + " 2> " + err;
     const int status = std::system(command.c_str());
     RunResult result;
@@ -96,7 +94,7 @@ class ToolsTest : public ::testing::Test {
     return truth;
   }
 
-  std::string dir_;
+  const testing::ScopedTempDir dir_{"fleetmap-tools"};
 };
 
 TEST_F(ToolsTest, HelpForEveryToolAndSubcommand) {
@@ -114,13 +112,14 @@ TEST_F(ToolsTest, HelpForEveryToolAndSubcommand) {
 TEST_F(ToolsTest, MissingArgumentsAndFilesExitNonZero) {
   EXPECT_NE(Run("fleetmap-log", "").exit_code, 0);
   EXPECT_NE(Run("fleetmap-log", "info").exit_code, 0);
-  EXPECT_NE(Run("fleetmap-log", "info " + dir_ + "/missing.clf").exit_code, 0);
-  EXPECT_NE(Run("fleetmap-eval", "relations --trajectory " + dir_ + "/missing").exit_code, 0);
+  EXPECT_NE(Run("fleetmap-log", "info " + dir_.path() + "/missing.clf").exit_code, 0);
+  EXPECT_NE(Run("fleetmap-eval", "relations --trajectory " + dir_.path() + "/missing").exit_code,
+            0);
   EXPECT_NE(Run("fleetmap-eval", "bogus").exit_code, 0);
 }
 
 TEST_F(ToolsTest, InfoReportsWhatTheLogHolds) {
-  const std::string log = dir_ + "/room.clf";
+  const std::string log = dir_.path() + "/room.clf";
   WriteRoomLog(log, 40);
   const RunResult r = Run("fleetmap-log", "info " + log);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -133,9 +132,9 @@ TEST_F(ToolsTest, InfoReportsWhatTheLogHolds) {
 }
 
 TEST_F(ToolsTest, MapWritesAMapOfTheRoomAndTheTrajectory) {
-  const std::string log = dir_ + "/room.clf";
+  const std::string log = dir_.path() + "/room.clf";
   const Trajectory truth = WriteRoomLog(log, 40);
-  const std::string out = dir_ + "/out";
+  const std::string out = dir_.path() + "/out";
   const RunResult r = Run("fleetmap-log", "map " + log + " --out " + out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* file : {"map.pgm", "map.yaml", "map.png", "trajectory.txt"}) {
@@ -155,14 +154,14 @@ TEST_F(ToolsTest, MapWritesAMapOfTheRoomAndTheTrajectory) {
 }
 
 TEST_F(ToolsTest, TrajectoryThenRelationsAndAte) {
-  const std::string log = dir_ + "/room.clf";
+  const std::string log = dir_.path() + "/room.clf";
   const Trajectory truth = WriteRoomLog(log, 30);
-  const std::string trajectory = dir_ + "/odometry.txt";
+  const std::string trajectory = dir_.path() + "/odometry.txt";
   RunResult r = Run("fleetmap-log", "trajectory " + log + " --out " + trajectory);
   ASSERT_EQ(r.exit_code, 0) << r.err;
 
   // Relations from the true poses, one of them 0.5 m off: mean error 0.5 / count.
-  std::ofstream relations(dir_ + "/room.relations");
+  std::ofstream relations(dir_.path() + "/room.relations");
   relations.precision(6);
   relations << std::fixed;
   for (size_t i = 0; i + 1 < truth.size(); ++i) {
@@ -173,11 +172,12 @@ TEST_F(ToolsTest, TrajectoryThenRelationsAndAte) {
   }
   relations << "5.000000 6.000000 1 0 0 0 0 0\n";  // not in the log: skipped
   relations.close();
-  r = Run("fleetmap-eval",
-          "relations --trajectory " + trajectory + " --relations " + dir_ + "/room.relations");
+  r = Run("fleetmap-eval", "relations --trajectory " + trajectory + " --relations " + dir_.path() +
+                               "/room.relations");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("relations: 29 used, 1 skipped (of 30)"));
-  r = Run("fleetmap-eval", "relations --json -t " + trajectory + " -r " + dir_ + "/room.relations");
+  r = Run("fleetmap-eval",
+          "relations --json -t " + trajectory + " -r " + dir_.path() + "/room.relations");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("\"used\": 29"));
   const size_t at = r.out.find("\"translation_m\": {\"mean\": ");
@@ -190,19 +190,19 @@ TEST_F(ToolsTest, TrajectoryThenRelationsAndAte) {
   for (const StampedPose& p : truth)
     shifted.push_back({p.timestamp, Rigid2d(0.3, 0.4, 0) * p.pose});
   std::string error;
-  ASSERT_TRUE(WriteTrajectory(dir_ + "/gt.txt", shifted, &error)) << error;
+  ASSERT_TRUE(WriteTrajectory(dir_.path() + "/gt.txt", shifted, &error)) << error;
   r = Run("fleetmap-eval",
-          "ate --trajectory " + trajectory + " --ground-truth " + dir_ + "/gt.txt");
+          "ate --trajectory " + trajectory + " --ground-truth " + dir_.path() + "/gt.txt");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("ATE translation RMSE [m]   0.5000"));
   r = Run("fleetmap-eval",
-          "ate --align --trajectory " + trajectory + " --ground-truth " + dir_ + "/gt.txt");
+          "ate --align --trajectory " + trajectory + " --ground-truth " + dir_.path() + "/gt.txt");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("ATE translation RMSE [m]   0.0000"));
 }
 
 TEST_F(ToolsTest, MalformedLogExitsNonZeroNamingTheLine) {
-  const std::string log = dir_ + "/bad.clf";
+  const std::string log = dir_.path() + "/bad.clf";
   std::ofstream(log) << "ODOM 0 0 0 0 0 0 1.0 h 0\nFLASER 3 1 2 0 0 0 0 0 0 2.0 h 0\n";
   for (const char* command : {"info ", "map --out out "}) {
     const RunResult r = Run("fleetmap-log", command + log);
@@ -218,7 +218,7 @@ TEST_F(ToolsTest, MalformedLogExitsNonZeroNamingTheLine) {
 TEST_F(ToolsTest, IntelRawOdometryRelationsUseAll2984) {
   FLEETMAP_REQUIRE_DATA(log, "intel-lab/intel.clf.bz2");
   FLEETMAP_REQUIRE_DATA(relations, "intel-lab/intel.relations");
-  const std::string trajectory = dir_ + "/intel-odometry.txt";
+  const std::string trajectory = dir_.path() + "/intel-odometry.txt";
   RunResult r = Run("fleetmap-log", "trajectory " + log + " --out " + trajectory);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("13631 poses"));
@@ -228,10 +228,10 @@ TEST_F(ToolsTest, IntelRawOdometryRelationsUseAll2984) {
 }
 
 TEST_F(ToolsTest, BadTrajectoryFileExitsNonZero) {
-  std::ofstream(dir_ + "/t.txt") << "1 2 3\n";
-  std::ofstream(dir_ + "/r.relations") << "1 2 0 0 0 0 0 0\n";
-  const RunResult r =
-      Run("fleetmap-eval", "relations -t " + dir_ + "/t.txt -r " + dir_ + "/r.relations");
+  std::ofstream(dir_.path() + "/t.txt") << "1 2 3\n";
+  std::ofstream(dir_.path() + "/r.relations") << "1 2 0 0 0 0 0 0\n";
+  const RunResult r = Run(
+      "fleetmap-eval", "relations -t " + dir_.path() + "/t.txt -r " + dir_.path() + "/r.relations");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.err, HasSubstr("t.txt:1: expected 4 values"));
 }
