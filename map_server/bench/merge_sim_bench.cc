@@ -326,7 +326,8 @@ int main(int argc, char** argv) {
   app.add_option("--whole-map-min-contradictions", options.engine.whole_map_min_contradictions,
                  "merge engine: an alternative alignment of the whole maps stops blocking a join "
                  "when their walls cross seen-free space there at this many points plus 4 times "
-                 "the join's (MergeEngineOptions::whole_map_min_contradictions; 0: never)")
+                 "the join's, and a join that puts this many there itself waits "
+                 "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--seeds", seeds,

@@ -45,6 +45,9 @@ void PrintRun(const RunResult& result, double wall) {
   }
   std::printf("; at least %.0f %%: %d pairs, %d merged\n", 100.0 * kMinPairOverlap, overlapping,
               overlapping_placed);
+  std::printf("  pair wall points in seen-free space (at the true anchors):");
+  for (int crossings : result.pair_crossings) std::printf(" %d", crossings);
+  std::printf("\n");
   std::fflush(stdout);
 }
 

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <set>
 
 #include "map_server/merge/log_odds_canvas.h"
+#include "map_server/merge/match_target.h"
+#include "map_server/merge/merge_engine.h"
 #include "robot_agent/sim/map_accuracy.h"
 
 namespace fleetmap {
@@ -105,13 +108,34 @@ void PairOverlaps(const std::map<NodeId, Submap>& submaps, const RunTruth& known
   }
   std::vector<std::set<std::pair<int, int>>> seen;
   for (const LogOddsCanvas& canvas : at_truth) seen.push_back(SeenCells(canvas));
+  // The whole-map check's view of each map (MergeEngine::SearchWholeMaps): its lattice, its
+  // score grid, its thinned wall points.
+  const MergeEngineOptions defaults;
+  OccupancyGridOptions grid_options = defaults.render_grid;
+  grid_options.resolution = kOverlapResolution;
+  MatchTargetOptions match_options = defaults.match;
+  match_options.grid.resolution = kOverlapResolution;
+  match_options.grid.sigma = 0.0;
+  std::vector<std::unique_ptr<MatchTarget>> targets;
+  std::vector<MatchSource> sources;
+  for (const LogOddsCanvas& canvas : at_truth) {
+    const OccupancyGrid grid = canvas.ToGrid(grid_options);
+    targets.push_back(std::make_unique<MatchTarget>(grid, match_options));
+    sources.push_back(MakeMatchSource(grid, Rigid2d(), match_options));
+  }
   result->pair_overlap.clear();
+  result->pair_crossings.clear();
   for (size_t a = 0; a < seen.size(); ++a) {
     for (size_t b = a + 1; b < seen.size(); ++b) {
       size_t both = 0;
       for (const auto& cell : seen[a]) both += seen[b].count(cell);
       const size_t smaller = std::min(seen[a].size(), seen[b].size());
       result->pair_overlap.push_back(smaller == 0 ? 0.0 : static_cast<double>(both) / smaller);
+      const bool empty = targets[a]->empty() || targets[b]->empty();
+      result->pair_crossings.push_back(
+          empty ? 0
+                : targets[a]->ContradictionsAt(sources[b].fine, Rigid2d()) +
+                      targets[b]->ContradictionsAt(sources[a].fine, Rigid2d()));
     }
   }
 }

@@ -47,6 +47,9 @@ struct RunResult {
   // where this is at least 30 %.
   std::vector<bool> pair_placed;
   std::vector<double> pair_overlap;
+  // Per robot pair: wall points of either map in space the other saw free, as the merge
+  // engine's whole-map check counts them (MatchTarget::ContradictionsAt), at the true anchors.
+  std::vector<int> pair_crossings;
   double median_update_ms = 0.0;
   double max_update_ms = 0.0;
   double median_fold_ms = 0.0;  // per submap folded in

@@ -98,8 +98,11 @@ struct MergeEngineOptions {
   // 70-160 walls, the true joins 0-5 (docs/BENCHMARKS.md, issue 8, session 21). Only a join
   // whose own walls cross at most whole_map_max_join_contradictions points can rule anything
   // out: a join turned half round there crossed 12, and ruling out its one-office shifts made a
-  // false merge. whole_map_min_contradictions 0 turns this off (every alternative scoring nearly
-  // as well keeps the join waiting).
+  // false merge. The same evidence judges the join itself: one that crosses
+  // whole_map_min_contradictions points or more waits, whatever else fits (the synthetic building
+  // with 4 submaps a robot: such joins crossed 51-82, the true ones 0-3; session 22).
+  // whole_map_min_contradictions 0 turns this off (every alternative scoring nearly as well keeps
+  // the join waiting, and a join is judged by scores alone).
   int whole_map_min_contradictions = 30;
   double whole_map_contradiction_ratio = 4.0;
   int whole_map_max_join_contradictions = 6;

@@ -168,5 +168,62 @@ TEST(MergeEngineAmbiguityTest, WithoutCountingWallsSeenThroughTheCratesAreNotEno
   EXPECT_FALSE(engine->RobotToGlobal("b"));
 }
 
+// Robot a drives the turned office only, robot b the office only: their maps do not overlap,
+// and b's fits a's turned round, the only alignment that scores. But the office has two walls
+// its twin lacks (in its left and middle rooms), and at that alignment they stand where a saw
+// through: the join must not be made.
+std::unique_ptr<MergeEngine> UnlikeTwinsEngine(int min_contradictions, SimRobot* a, SimRobot* b) {
+  testing::SegmentWorld world = TwinOffices();
+  world.push_back({Eigen::Vector2d(0, 8.5), Eigen::Vector2d(4, 8.5)});
+  world.push_back({Eigen::Vector2d(8, 10), Eigen::Vector2d(12, 10)});
+  const std::vector<Rigid2d> tour = testing::PathThrough({{2, 6},
+                                                          {5.5, 5.5},
+                                                          {8, 6},
+                                                          {11, 5},
+                                                          {14, 5},
+                                                          {18.5, 5},
+                                                          {18.5, 9},
+                                                          {14, 9},
+                                                          {18.5, 9},
+                                                          {18.5, 5},
+                                                          {11, 6},
+                                                          {8, 6},
+                                                          {3, 6}},
+                                                         0.25);
+  const std::vector<Rigid2d> a_path = Turned(tour);
+  *a = SimRobot{"a", a_path, Rigid2d(a_path.front().translation(), 0.4)};
+  *b = SimRobot{"b", tour, Rigid2d(tour.front().translation(), -1.1)};
+  MergeEngineOptions options;
+  options.max_global_searches_per_update = 100;
+  options.whole_map_min_contradictions = min_contradictions;
+  auto engine = std::make_unique<MergeEngine>(options);
+  Feed(world, *a, engine.get());
+  Feed(world, *b, engine.get());
+  return engine;
+}
+
+TEST(MergeEngineAmbiguityTest, AJoinWhoseWallsStandWhereTheOtherSawThroughIsNotMade) {
+  SimRobot a, b;
+  auto engine = UnlikeTwinsEngine(MergeEngineOptions().whole_map_min_contradictions, &a, &b);
+  bool refused = false;
+  for (int i = 0; i < 5; ++i) {
+    for (const AlignmentEvent& e : engine->Update().events) {
+      refused |= e.reason.find("the whole maps contradict it") != std::string::npos;
+      if (e.type == AlignmentEventType::kAlignmentAccepted) ADD_FAILURE() << e.reason;
+    }
+  }
+  EXPECT_FALSE(engine->RobotToGlobal("b"));
+  EXPECT_TRUE(refused) << "the provenance says why the join waits";
+}
+
+TEST(MergeEngineAmbiguityTest, WithoutCountingWallsSeenThroughTheUnlikeTwinsJoin) {
+  SimRobot a, b;
+  auto engine = UnlikeTwinsEngine(/*min_contradictions=*/0, &a, &b);
+  for (int i = 0; i < 5; ++i) engine->Update();
+  const auto rel = EstimatedRelative(*engine, "a", "b");
+  ASSERT_TRUE(rel) << "the case the test above is about: a join on the turned twin";
+  EXPECT_GT((TrueRelative(a, b).inverse() * *rel).translation().norm(), 5.0);
+}
+
 }  // namespace
 }  // namespace fleetmap

@@ -35,6 +35,7 @@ struct Config {
   double step = 0.25;             // metres between scans
   double whole_map_ambiguity = MergeEngineOptions().whole_map_ambiguity;
   int whole_map_min_contradictions = MergeEngineOptions().whole_map_min_contradictions;
+  bool verbose = false;
 };
 
 struct SimRobot {
@@ -158,6 +159,10 @@ int Run(const Config& c) {
       if (nodes + 40 > static_cast<size_t>(c.robots * c.submaps_per_robot)) late_update_ms.push_back(ms);
       if (static_cast<int>(update.placed_robots.size()) == c.robots) placed_update_ms.push_back(ms);
       for (const AlignmentEvent& e : update.events) {
+        if (c.verbose && e.type != AlignmentEventType::kPending) {
+          std::printf("    submap %d: %s %s/%s: %s\n", k, AlignmentEventTypeName(e.type),
+                      e.robot_a.c_str(), e.robot_b.c_str(), e.reason.c_str());
+        }
         const bool bad = e.detection_index && corrupted[*e.detection_index];
         if (bad && (e.type == AlignmentEventType::kAlignmentAccepted || e.type == AlignmentEventType::kConstraintAdded)) ++corrupted_used;
         if (bad && e.type == AlignmentEventType::kRejected) ++corrupted_rejected;
@@ -274,7 +279,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--whole-map-min-contradictions", c.whole_map_min_contradictions,
                  "An alternative alignment of the whole maps stops blocking a join when that many "
-                 "of their walls cross seen-free space there, plus 4 times the join's "
+                 "of their walls cross seen-free space there, plus 4 times the join's, and a join "
+                 "that puts this many there itself waits "
                  "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
@@ -284,6 +290,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-detections", no_detections, "Merge from submap matching alone");
   bool no_local = false;
   app.add_flag("--no-local-constraints", no_local, "Only alignment edges between robots");
+  app.add_flag("--verbose", c.verbose, "Print every alignment event with its reason");
   app.add_flag("--diagnose", c.diagnose, "Print every edge kind's worst error against the truth");
   CLI11_PARSE(app, argc, argv);
   c.local_constraints = !no_local;
