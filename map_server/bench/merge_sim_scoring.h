@@ -86,7 +86,8 @@ void PrintSubmapDiagnosis(const MergeEngine& engine, const std::map<NodeId, Subm
 // at their true anchors (the best any merge of these submaps could do: what is left is in the
 // submaps themselves, e.g. other robots' bodies or blur within a submap), and each robot's
 // submaps at its own local SLAM anchors, its start frame placed true (its local drift). Also
-// each robot pair's overlap (RunResult::pair_overlap).
+// each robot pair's overlap (RunResult::pair_overlap) and the wall points either map puts in
+// space the other saw free (RunResult::pair_crossings).
 void ScoreMapBounds(const std::map<NodeId, Submap>& submaps, const RunTruth& known,
                     const sim::World& world, RunResult* result);
 

@@ -256,7 +256,7 @@ class MergeEngine {
   // alignments that agree with it.
   struct WholeMapVerdict {
     std::optional<std::string> ambiguity;  // why not; empty when unambiguous
-    std::string note;  // for the provenance: alternatives the maps' walls ruled out
+    std::string note;  // for the provenance: the join's own count, what the walls ruled out
   };
   WholeMapVerdict WholeMapAmbiguity(const std::string& root_a, const std::string& root_b,
                                     const Rigid2d& b_in_a);
