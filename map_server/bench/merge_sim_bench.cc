@@ -330,6 +330,12 @@ int main(int argc, char** argv) {
                  "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--cross-retry-growth", options.engine.cross_retry_growth,
+                 "merge engine: a submap not yet joined is searched over another component's map "
+                 "again once that map holds this many times as many finished submaps "
+                 "(MergeEngineOptions::cross_retry_growth; 0: once)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--seeds", seeds,
                  "runs per scenario, with the scenario's seed, then seed + 1, ... (a summary line "
                  "per scenario when more than one)")

@@ -6,80 +6,40 @@
 namespace fleetmap {
 namespace {
 
-struct Node {
-  int rotation = 0;
-  int x = 0;  // first cell offset of the block
-  int y = 0;
-  float score = 0.0f;
-};
-
-// The source points rotated by one lattice angle, as integer target cells at zero offset.
-struct RotatedPoints {
-  double angle = 0.0;
-  std::vector<Eigen::Array2i> cells;
-};
-
-struct SearchContext {
-  const ScoreGridPyramid* pyramid;
-  const std::vector<RotatedPoints>* rotations;
-  int window_x;
-  int window_y;
-  double resolution;
-  Eigen::Vector2d center_translation;
-  const std::vector<ExclusionZone>* exclusions;
-};
-
-float Score(const SearchContext& ctx, int level, const Node& node) {
-  const RotatedPoints& r = (*ctx.rotations)[static_cast<size_t>(node.rotation)];
-  float sum = 0.0f;
-  for (const Eigen::Array2i& c : r.cells) sum += ctx.pyramid->Value(level, c.x() + node.x, c.y() + node.y);
-  return r.cells.empty() ? 0.0f : sum / static_cast<float>(r.cells.size());
+Rigid2d NodePose(const SearchLattice& lattice, const LatticeNode& node) {
+  const LatticeRotation& r = lattice.rotations[static_cast<size_t>(node.rotation)];
+  return Rigid2d(lattice.center_translation + lattice.resolution * Eigen::Vector2d(node.x, node.y),
+                 r.angle);
 }
 
-Rigid2d NodePose(const SearchContext& ctx, const Node& node) {
-  const RotatedPoints& r = (*ctx.rotations)[static_cast<size_t>(node.rotation)];
-  return Rigid2d(ctx.center_translation + ctx.resolution * Eigen::Vector2d(node.x, node.y), r.angle);
+bool Excluded(const SearchLattice& lattice, const std::vector<ExclusionZone>& exclusions,
+              const LatticeNode& node) {
+  if (exclusions.empty()) return false;
+  const Rigid2d pose = NodePose(lattice, node);
+  return std::any_of(exclusions.begin(), exclusions.end(), [&](const ExclusionZone& zone) {
+    return (pose.translation() - zone.center.translation()).norm() < zone.linear &&
+           std::abs(NormalizeAngle(pose.rotation() - zone.center.rotation())) < zone.angular;
+  });
 }
 
-bool Excluded(const SearchContext& ctx, const Node& node) {
-  if (ctx.exclusions->empty()) return false;
-  const Rigid2d pose = NodePose(ctx, node);
-  return std::any_of(
-      ctx.exclusions->begin(), ctx.exclusions->end(), [&](const ExclusionZone& zone) {
-        return (pose.translation() - zone.center.translation()).norm() < zone.linear &&
-               std::abs(NormalizeAngle(pose.rotation() - zone.center.rotation())) < zone.angular;
-      });
-}
-
-void SortDescending(std::vector<Node>* nodes) {
-  std::sort(nodes->begin(), nodes->end(), [](const Node& a, const Node& b) { return a.score > b.score; });
-}
-
-// Depth-first branch and bound; `best` holds the best leaf found so far.
-void Recurse(const SearchContext& ctx, std::vector<Node> candidates, int level, Node* best,
-             float* best_score) {
-  for (const Node& node : candidates) {
-    if (node.score <= *best_score) break;
-    if (level == 0) {
-      if (Excluded(ctx, node)) continue;
-      *best = node;
-      *best_score = node.score;
-      continue;
+// The four blocks one level down, those inside the window.
+std::vector<LatticeNode> Children(const SearchLattice& lattice, const LatticeNode& node) {
+  const int half = 1 << (node.level - 1);
+  std::vector<LatticeNode> children;
+  children.reserve(4);
+  for (int dy : {0, half}) {
+    for (int dx : {0, half}) {
+      const LatticeNode child{node.level - 1, node.rotation, node.x + dx, node.y + dy, 0.0f};
+      if (child.x > lattice.window_x || child.y > lattice.window_y) continue;
+      children.push_back(child);
     }
-    const int half = 1 << (level - 1);
-    std::vector<Node> children;
-    children.reserve(4);
-    for (int dy : {0, half}) {
-      for (int dx : {0, half}) {
-        Node child{node.rotation, node.x + dx, node.y + dy, 0.0f};
-        if (child.x > ctx.window_x || child.y > ctx.window_y) continue;
-        child.score = Score(ctx, level - 1, child);
-        children.push_back(child);
-      }
-    }
-    SortDescending(&children);
-    Recurse(ctx, std::move(children), level - 1, best, best_score);
   }
+  return children;
+}
+
+void SortDescending(std::vector<LatticeNode>* nodes) {
+  std::sort(nodes->begin(), nodes->end(),
+            [](const LatticeNode& a, const LatticeNode& b) { return a.score > b.score; });
 }
 
 }  // namespace
@@ -88,10 +48,10 @@ BranchAndBoundMatcher::BranchAndBoundMatcher(const ScoreGrid& grid,
                                              const BranchAndBoundOptions& options)
     : grid_(grid), options_(options), pyramid_(grid, options.max_levels) {}
 
-std::optional<MatchCandidate> BranchAndBoundMatcher::Search(
-    const std::vector<Eigen::Vector2d>& source_points, const SearchWindow& window, double min_score,
-    const std::vector<ExclusionZone>& exclusions) const {
-  if (source_points.empty() || grid_.empty()) return std::nullopt;
+SearchLattice BranchAndBoundMatcher::MakeLattice(const std::vector<Eigen::Vector2d>& source_points,
+                                                 const SearchWindow& window) const {
+  SearchLattice lattice;
+  if (source_points.empty() || grid_.empty()) return lattice;
   const double resolution = grid_.resolution();
   double max_radius = resolution;
   for (const Eigen::Vector2d& p : source_points) max_radius = std::max(max_radius, p.norm());
@@ -106,10 +66,9 @@ std::optional<MatchCandidate> BranchAndBoundMatcher::Search(
     last = num - 1;
   }
 
-  std::vector<RotatedPoints> rotations;
-  rotations.reserve(static_cast<size_t>(last - first + 1));
+  lattice.rotations.reserve(static_cast<size_t>(last - first + 1));
   for (int k = first; k <= last; ++k) {
-    RotatedPoints r;
+    LatticeRotation r;
     r.angle = NormalizeAngle(window.center.rotation() + k * step);
     const Rigid2d pose(window.center.translation(), r.angle);
     r.cells.reserve(source_points.size());
@@ -117,43 +76,107 @@ std::optional<MatchCandidate> BranchAndBoundMatcher::Search(
       const Eigen::Vector2d c = grid_.ToCellCoordinates(pose * p);
       r.cells.emplace_back(static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y())));
     }
-    rotations.push_back(std::move(r));
+    lattice.rotations.push_back(std::move(r));
   }
+  lattice.window_x = static_cast<int>(std::ceil(window.linear_half_extent.x() / resolution));
+  lattice.window_y = static_cast<int>(std::ceil(window.linear_half_extent.y() / resolution));
+  lattice.resolution = resolution;
+  lattice.center_translation = window.center.translation();
+  const int extent = 2 * std::max(lattice.window_x, lattice.window_y) + 1;
+  while ((1 << lattice.top) < extent && lattice.top + 1 < pyramid_.levels()) ++lattice.top;
+  return lattice;
+}
 
-  SearchContext ctx;
-  ctx.pyramid = &pyramid_;
-  ctx.rotations = &rotations;
-  ctx.window_x = static_cast<int>(std::ceil(window.linear_half_extent.x() / resolution));
-  ctx.window_y = static_cast<int>(std::ceil(window.linear_half_extent.y() / resolution));
-  ctx.resolution = resolution;
-  ctx.center_translation = window.center.translation();
-  ctx.exclusions = &exclusions;
+float BranchAndBoundMatcher::Bound(const SearchLattice& lattice, const LatticeNode& node) const {
+  const LatticeRotation& r = lattice.rotations[static_cast<size_t>(node.rotation)];
+  float sum = 0.0f;
+  for (const Eigen::Array2i& c : r.cells)
+    sum += pyramid_.Value(node.level, c.x() + node.x, c.y() + node.y);
+  return r.cells.empty() ? 0.0f : sum / static_cast<float>(r.cells.size());
+}
 
-  const int extent = 2 * std::max(ctx.window_x, ctx.window_y) + 1;
-  int top = 0;
-  while ((1 << top) < extent && top + 1 < pyramid_.levels()) ++top;
-  const int block = 1 << top;
-  std::vector<Node> candidates;
-  for (int r = 0; r < static_cast<int>(rotations.size()); ++r) {
-    for (int y = -ctx.window_y; y <= ctx.window_y; y += block) {
-      for (int x = -ctx.window_x; x <= ctx.window_x; x += block) {
-        Node node{r, x, y, 0.0f};
-        node.score = Score(ctx, top, node);
-        candidates.push_back(node);
+std::vector<LatticeNode> BranchAndBoundMatcher::TopNodes(const SearchLattice& lattice) const {
+  const int block = 1 << lattice.top;
+  std::vector<LatticeNode> nodes;
+  for (int r = 0; r < static_cast<int>(lattice.rotations.size()); ++r) {
+    for (int y = -lattice.window_y; y <= lattice.window_y; y += block) {
+      for (int x = -lattice.window_x; x <= lattice.window_x; x += block) {
+        LatticeNode node{lattice.top, r, x, y, 0.0f};
+        node.score = Bound(lattice, node);
+        nodes.push_back(node);
       }
     }
   }
-  SortDescending(&candidates);
-  Node best;
+  return nodes;
+}
+
+std::optional<MatchCandidate> BranchAndBoundMatcher::Search(
+    const std::vector<Eigen::Vector2d>& source_points, const SearchWindow& window, double min_score,
+    const std::vector<ExclusionZone>& exclusions) const {
+  const SearchLattice lattice = MakeLattice(source_points, window);
+  if (lattice.rotations.empty()) return std::nullopt;
+  // Depth first, best child first; `best` holds the best leaf found so far.
+  LatticeNode best;
   float best_score = static_cast<float>(min_score);
   bool found = false;
-  {
-    const float before = best_score;
-    Recurse(ctx, std::move(candidates), top, &best, &best_score);
-    found = best_score > before;
-  }
+  const auto recurse = [&](const auto& self, std::vector<LatticeNode> candidates) -> void {
+    for (const LatticeNode& node : candidates) {
+      if (node.score <= best_score) break;
+      if (node.level == 0) {
+        if (Excluded(lattice, exclusions, node)) continue;
+        best = node;
+        best_score = node.score;
+        found = true;
+        continue;
+      }
+      std::vector<LatticeNode> children = Children(lattice, node);
+      for (LatticeNode& child : children) child.score = Bound(lattice, child);
+      SortDescending(&children);
+      self(self, std::move(children));
+    }
+  };
+  std::vector<LatticeNode> top = TopNodes(lattice);
+  SortDescending(&top);
+  recurse(recurse, std::move(top));
   if (!found) return std::nullopt;
-  return MatchCandidate{NodePose(ctx, best), best_score};
+  return MatchCandidate{NodePose(lattice, best), best_score};
+}
+
+PeakSearch BranchAndBoundMatcher::Peaks(const std::vector<Eigen::Vector2d>& source_points,
+                                        const SearchWindow& window, double min_score,
+                                        const std::vector<ExclusionZone>& exclusions) const {
+  return PeakSearch(*this, MakeLattice(source_points, window), static_cast<float>(min_score),
+                    exclusions);
+}
+
+PeakSearch::PeakSearch(const BranchAndBoundMatcher& matcher, SearchLattice lattice, float min_score,
+                       std::vector<ExclusionZone> exclusions)
+    : matcher_(matcher),
+      lattice_(std::move(lattice)),
+      min_score_(min_score),
+      exclusions_(std::move(exclusions)) {
+  if (lattice_.rotations.empty()) return;
+  for (const LatticeNode& node : matcher_.TopNodes(lattice_)) {
+    if (node.score > min_score_) frontier_.push(node);
+  }
+}
+
+std::optional<MatchCandidate> PeakSearch::Next() {
+  // Best first: the first leaf off the frontier scores at least every bound left on it, so it
+  // is the best pose left.
+  while (!frontier_.empty()) {
+    const LatticeNode node = frontier_.top();
+    frontier_.pop();
+    if (node.level == 0) {
+      if (Excluded(lattice_, exclusions_, node)) continue;
+      return MatchCandidate{NodePose(lattice_, node), node.score};
+    }
+    for (LatticeNode child : Children(lattice_, node)) {
+      child.score = matcher_.Bound(lattice_, child);
+      if (child.score > min_score_) frontier_.push(child);
+    }
+  }
+  return std::nullopt;
 }
 
 double BranchAndBoundMatcher::ScoreAt(const std::vector<Eigen::Vector2d>& source_points,

@@ -130,11 +130,11 @@ int MatchTarget::ContradictionsAt(const std::vector<Eigen::Vector2d>& points,
   return count;
 }
 
-std::optional<MatchCandidate> MatchTarget::BestOutside(
-    const MatchSource& source, const SearchWindow& window, double min_score,
-    const std::vector<ExclusionZone>& zones) const {
-  if (empty() || source.coarse.empty()) return std::nullopt;
-  return matcher_->Search(source.coarse, window, min_score, zones);
+PeakSearch MatchTarget::PeaksOutside(const MatchSource& source, const SearchWindow& window,
+                                     double min_score,
+                                     const std::vector<ExclusionZone>& zones) const {
+  static const std::vector<Eigen::Vector2d> kNothing;
+  return matcher_->Peaks(empty() ? kNothing : source.coarse, window, min_score, zones);
 }
 
 MatchResult MatchTarget::EvaluateWithScore(const MatchSource& source, const Rigid2d& pose,

@@ -99,12 +99,11 @@ class MatchTarget {
   // Scores a given pose without searching (same figures as Match, no ambiguity).
   MatchResult Evaluate(const MatchSource& source, const Rigid2d& pose, const MatchGates& gates) const;
 
-  // The best lattice pose in `window` outside every one of `zones` scoring at least `min_score`
-  // (none when no pose does): to ask whether anything else explains the source nearly as well
-  // as a given alignment.
-  std::optional<MatchCandidate> BestOutside(const MatchSource& source, const SearchWindow& window,
-                                            double min_score,
-                                            const std::vector<ExclusionZone>& zones) const;
+  // The lattice poses in `window` outside every one of `zones` scoring above `min_score`, best
+  // first, one distinct peak at a time (PeakSearch): to ask whether anything else explains the
+  // source nearly as well as a given alignment. Keeps a reference to this target.
+  PeakSearch PeaksOutside(const MatchSource& source, const SearchWindow& window, double min_score,
+                          const std::vector<ExclusionZone>& zones) const;
   // How many of `points` (source frame) land, at `pose`, in space the target saw free and away
   // from its walls (beyond twice the score grid's sigma): walls the target's scans went through.
   int ContradictionsAt(const std::vector<Eigen::Vector2d>& points, const Rigid2d& pose) const;

@@ -107,6 +107,12 @@ struct MergeEngineOptions {
   double whole_map_contradiction_ratio = 4.0;
   int whole_map_max_join_contradictions = 6;
   int whole_map_max_refuted = 8;
+  // Alternatives are examined best first, and one that is neither nearly as good nor as
+  // consistent does not end the search: one scoring less can still be as consistent where it
+  // overlaps (stopping there let a department join 33 m / 180 deg off through; session 22). At
+  // most whole_map_max_examined are examined, from one search that keeps its frontier
+  // (PeakSearch): 16 fresh searches over east_end's maps took 4.6 s, the frontier 0.34 s.
+  int whole_map_max_examined = 16;
   // A submap match (no detection) is also confirmed by another submap of the same robot matching
   // at the pose it predicts, when the whole-map check then finds nothing as good. Without this a
   // second match had to pass the global search's gates too, and in the department's east end
@@ -124,6 +130,15 @@ struct MergeEngineOptions {
 
   // Work bounds per Update(): global searches are the expensive part.
   int max_global_searches_per_update = 4;
+  // A submap not yet joined is searched over another component's map again once that map holds
+  // cross_retry_growth times as many finished submaps: the walls that place it may not have been
+  // mapped when it was first searched (a restarted server searched every stored submap over the
+  // maps of that moment, and left robot2 of the east_end e2e test waiting in 2 of 16 runs).
+  // Alone it made false joins (sessions 21, 22); with the join judged by its own walls and the
+  // whole-map check examining alternatives past the first that does not compare, the benches
+  // show none (docs/BENCHMARKS.md, issue 8, session 23). 0: each submap is searched once per
+  // component.
+  double cross_retry_growth = 2.0;
   int max_local_searches_per_update = 8;
   bool local_constraints = true;  // match new submaps against other joined robots' maps
   // Loop closures within one robot's map: a new submap against the robot's own older submaps
@@ -272,6 +287,9 @@ class MergeEngine {
   // (submaps of the same robot) observed.
   bool MostlySeenBefore(const std::string& robot, int64_t id, const std::set<int64_t>& seen) const;
   int FinishedSubmaps(const std::string& root) const;
+  // Whether a submap is due a (new) global search over `root`'s map, given the roots it was
+  // searched over and how many finished submaps each had then (cross_retry_growth).
+  bool CrossSearchDue(const std::map<std::string, int>& tried, const std::string& root) const;
   void Accept(const Hypothesis& hypothesis, const std::vector<RelativeEdge>& extra,
               MergeUpdate* update);
   std::optional<TimedPose> PoseAtTime(const std::string& robot, double time) const;

@@ -229,9 +229,9 @@ void MergeEngine::ProcessCrossMatches(MergeUpdate* update) {
         if (Root(other) != Root(robot_id) && !state->submaps.empty()) roots.insert(Root(other));
       }
       for (const std::string& root : roots) {
-        if (robot->cross_tried[id].count(root) || Root(robot_id) == root) continue;
+        if (Root(robot_id) == root || !CrossSearchDue(robot->cross_tried[id], root)) continue;
         if (budget-- <= 0) return;
-        robot->cross_tried[id].insert(root);
+        robot->cross_tried[id][root] = FinishedSubmaps(root);
         const MatchTarget& target = Target(root);
         if (target.empty()) continue;
         // Rotate about the points' centroid so the window only has to cover the target map.
@@ -268,6 +268,14 @@ void MergeEngine::ProcessCrossMatches(MergeUpdate* update) {
         h.edge.to_in_from = graph_.NodePose(*from)->inverse() * submap_in_frame;
         event.local_b_in_local_a = h.local_b_in_local_a;
         h.event = event;
+        // A search again over a grown map supersedes what this submap's last search left waiting.
+        hypotheses_.erase(std::remove_if(hypotheses_.begin(), hypotheses_.end(),
+                                         [&](const Hypothesis& old) {
+                                           return !old.detection && old.robot_b == robot_id &&
+                                                  old.submaps_b == h.submaps_b &&
+                                                  Root(old.robot_a) == root;
+                                         }),
+                          hypotheses_.end());
         Consider(std::move(h), update);
       }
     }
@@ -280,6 +288,15 @@ int MergeEngine::FinishedSubmaps(const std::string& root) const {
     for (const auto& [id, submap] : robots_.at(m)->submaps) n += submap.finished;
   }
   return n;
+}
+
+bool MergeEngine::CrossSearchDue(const std::map<std::string, int>& tried,
+                                 const std::string& root) const {
+  const auto it = tried.find(root);
+  if (it == tried.end()) return true;
+  return options_.cross_retry_growth > 0.0 &&
+         FinishedSubmaps(root) >=
+             std::max(it->second + 1.0, options_.cross_retry_growth * it->second);
 }
 
 void MergeEngine::ReviewMatchHypotheses(MergeUpdate* update) {

@@ -87,7 +87,8 @@ bool MergeEngine::HasPendingWork() const {
       for (const auto& [other, state] : robots_) {
         const std::string other_root = Root(other);
         if (other_root == root || state->submaps.empty()) continue;
-        if (tried == robot->cross_tried.end() || !tried->second.count(other_root)) return true;
+        if (tried == robot->cross_tried.end() || CrossSearchDue(tried->second, other_root))
+          return true;
       }
     }
     const auto has_node = [&](int64_t id) { return graph_.HasNode({robot_id, id}); };

@@ -145,20 +145,31 @@ TEST_F(MatchTargetTest, CountsSourceWallsInsideSpaceTheTargetSawFree) {
   EXPECT_EQ(target.ContradictionsAt(source.fine, Rigid2d(100.0, 0.0, 0.0)), 0);
 }
 
-// Along a corridor every shift fits: each exclusion zone passed in rules out one more of them.
-TEST(MatchTargetCorridorTest, BestOutsideSkipsEveryZone) {
+// Along a corridor every shift fits: each zone excluded rules out one more of them, and the
+// peaks come best first, the same poses a fresh search outside the same zones finds.
+TEST(MatchTargetCorridorTest, PeaksOutsideSkipsEveryZoneBestFirst) {
   const CorridorCase c = MakeCorridorCase(Rigid2d());
-  std::vector<ExclusionZone> zones;
-  for (int i = 0; i < 3; ++i) {
-    const auto found = c.target->BestOutside(c.source, c.window, 0.3, zones);
-    ASSERT_TRUE(found);
+  const ExclusionZone first{Rigid2d(), 0.5, 0.26};
+  std::vector<ExclusionZone> zones = {first};
+  PeakSearch peaks = c.target->PeaksOutside(c.source, c.window, 0.3, zones);
+  double last_score = 2.0;
+  for (int i = 0; i < 6; ++i) {
+    const auto found = peaks.Next();
+    ASSERT_TRUE(found) << "peak " << i;
+    EXPECT_LE(found->score, last_score);
+    last_score = found->score;
     for (const ExclusionZone& zone : zones) {
       const Rigid2d apart = zone.center.inverse() * found->pose;
       EXPECT_TRUE(apart.translation().norm() >= zone.linear ||
                   std::abs(apart.rotation()) >= zone.angular)
           << "pose " << found->pose << " inside zone " << zone.center;
     }
+    // A search started afresh outside the same zones finds a peak scoring the same.
+    const auto fresh = c.target->PeaksOutside(c.source, c.window, 0.3, zones).Next();
+    ASSERT_TRUE(fresh);
+    EXPECT_FLOAT_EQ(fresh->score, found->score);
     zones.push_back(ExclusionZone{found->pose, 0.5, 0.26});
+    peaks.Exclude(zones.back());
   }
 }
 

@@ -35,6 +35,7 @@ struct Config {
   double step = 0.25;             // metres between scans
   double whole_map_ambiguity = MergeEngineOptions().whole_map_ambiguity;
   int whole_map_min_contradictions = MergeEngineOptions().whole_map_min_contradictions;
+  double cross_retry_growth = MergeEngineOptions().cross_retry_growth;
   bool verbose = false;
 };
 
@@ -101,6 +102,7 @@ int Run(const Config& c) {
   options.local_constraints = c.local_constraints;
   options.whole_map_ambiguity = c.whole_map_ambiguity;
   options.whole_map_min_contradictions = c.whole_map_min_contradictions;
+  options.cross_retry_growth = c.cross_retry_growth;
   MergeEngine engine(options);
   std::vector<bool> corrupted;
   int detections_total = 0, next_detection_step = 0;
@@ -282,6 +284,12 @@ int main(int argc, char** argv) {
                  "of their walls cross seen-free space there, plus 4 times the join's, and a join "
                  "that puts this many there itself waits "
                  "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--cross-retry-growth", c.cross_retry_growth,
+                 "a submap not yet joined is searched over another component's map again once "
+                 "that map holds this many times as many finished submaps "
+                 "(MergeEngineOptions::cross_retry_growth; 0: once)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--outlier-fraction", c.outlier_fraction, "Fraction of corrupted detections")->check(CLI::Range(0.0, 1.0));

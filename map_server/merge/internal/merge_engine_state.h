@@ -40,7 +40,8 @@ struct MergeEngine::RobotState {
   int64_t canvas_version = 0;
   std::map<int64_t, std::pair<int64_t, MatchSource>> sources;  // id -> (revision, points)
   std::set<int64_t> cross_queue;                      // finished, awaiting global search
-  std::map<int64_t, std::set<std::string>> cross_tried;  // id -> component roots tried
+  // id -> component roots searched over, each with how many finished submaps it had then.
+  std::map<int64_t, std::map<std::string, int>> cross_tried;
   std::set<int64_t> local_queue;                      // awaiting a local constraint search
   std::set<int64_t> loop_queue;                       // awaiting a loop closure search
 };
