@@ -330,6 +330,11 @@ int main(int argc, char** argv) {
                  "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--max-pull-distance", options.engine.match.refine.max_pull_distance,
+                 "merge engine: metres; in a match's refinement, points farther than this from "
+                 "a wall do not pull (PoseRefinerOptions::max_pull_distance; 0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--cross-retry-growth", options.engine.cross_retry_growth,
                  "merge engine: a submap not yet joined is searched over another component's map "
                  "again once that map holds this many times as many finished submaps "

@@ -50,22 +50,31 @@ std::vector<int> Sectors(const std::vector<Eigen::Vector2d>& normals, const Rigi
   return sectors;
 }
 
-// Sum of Huber costs, and the weighted normal equations when `h`/`g` are given.
+// Sum of Huber costs over the points near a wall, and the weighted normal equations when
+// `h`/`g` are given.
 double Cost(const SidedLookup& lookup, const Rigid2d& pose, const PoseRefinerOptions& options,
             Eigen::Matrix3d* h, Eigen::Vector3d* g) {
   if (h) h->setZero();
   if (g) g->setZero();
   const Eigen::Matrix2d r = pose.rotation_matrix();
   const double cutoff = lookup.max_distance() * 0.999;
+  const double delta = options.huber_delta;
+  const auto huber = [delta](double x) {
+    return x <= delta ? 0.5 * x * x : delta * (x - 0.5 * delta);
+  };
   double cost = 0.0;
   for (size_t i = 0; i < lookup.points.size(); ++i) {
     const Eigen::Vector2d& p = lookup.points[i];
     Eigen::Vector2d grad;
     const double d = lookup(i, pose, &grad);
     if (d >= cutoff) continue;  // unmatched: no information, no pull
-    const double delta = options.huber_delta;
+    if (options.max_pull_distance > 0.0 && d >= options.max_pull_distance) {
+      // Counted at the limit, so that moving a point past it is not a way to lower the cost.
+      cost += huber(options.max_pull_distance);
+      continue;
+    }
     const double w = d <= delta ? 1.0 : delta / d;
-    cost += d <= delta ? 0.5 * d * d : delta * (d - 0.5 * delta);
+    cost += huber(d);
     if (!h) continue;
     const Eigen::Vector2d dq_dtheta(-(r * p).y(), (r * p).x());
     const Eigen::Vector3d j(grad.x(), grad.y(), grad.dot(dq_dtheta));

@@ -13,6 +13,11 @@ namespace fleetmap {
 struct PoseRefinerOptions {
   int max_iterations = 30;
   double huber_delta = 0.05;  // metres: points farther than this from a wall count less
+  // Metres: points farther than this from a wall do not pull at all. Huber's pull never fades,
+  // and without detections another robot's body, mapped where the two passed each other, pulled
+  // every match of those submaps: robot2 of east_end was placed 0.74 deg off, 0.16 with this
+  // (docs/BENCHMARKS.md, issue 8, session 23). 0: only the distance field's reach limits them.
+  double max_pull_distance = 0.15;
   // A point closer than this to a target wall is an inlier (the match's quality figures).
   double inlier_distance = 0.1;
   // The refinement must stay near the lattice answer it starts from; farther means it slid.
@@ -41,7 +46,8 @@ struct SidedPoints {
 
 // Sub-cell refinement of a correlative match: Gauss-Newton (Levenberg-Marquardt damped) on the
 // distances of the `fine` source points to the target's walls seen from the same side (see
-// SidedDistanceField; a point without a side finds any wall), with Huber weights. The
+// SidedDistanceField; a point without a side finds any wall), with Huber weights, and none
+// beyond max_pull_distance. The
 // branch-and-bound lattice gets within a cell, but it is blind to sides and may have put faces
 // onto the opposite faces of the same walls, a wall thickness away: so the lattice answer's
 // neighbourhood is first searched again on sided distances with the `coarse` points
