@@ -116,7 +116,12 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     os << apart.translation().norm() << " m, "
        << std::abs(NormalizeAngle(apart.rotation())) * 180.0 / M_PI << " deg away";
   };
-  for (int refuted = 0, examined = 0;; ++refuted) {
+  // Every alternative examined is excluded from the search before the next one.
+  const auto set_aside = [&](const Rigid2d& pose) {
+    zone.center = pose;
+    alternatives.Exclude(zone);
+  };
+  for (int refuted = 0, examined = 0;;) {
     const auto other =
         examined++ < options_.whole_map_max_examined ? alternatives.Next() : std::nullopt;
     WholeMapVerdict verdict;
@@ -134,9 +139,7 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     if (!explains_as_much && !as_consistent) {
       // Not as good, but one scoring less may still be as consistent where it overlaps: stopping
       // here accepted a join 33 m / 180 deg off in the department (session 22).
-      zone.center = other->pose;
-      alternatives.Exclude(zone);
-      --refuted;
+      set_aside(other->pose);
       continue;
     }
     const Rigid2d apart = b_in_a.inverse() * (other->pose * Rigid2d(-c, 0.0));
@@ -158,8 +161,8 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
       describe(ruled_out, apart);
       ruled_out << ": " << other_contradictions << " wall points in seen-free space against "
                 << candidate_contradictions;
-      zone.center = other->pose;
-      alternatives.Exclude(zone);
+      ++refuted;
+      set_aside(other->pose);
       continue;
     }
     why << "ambiguous over the whole maps: an alignment ";
