@@ -335,6 +335,12 @@ int main(int argc, char** argv) {
                  "a wall do not pull (PoseRefinerOptions::max_pull_distance; 0: no limit)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--whole-map-body-radius", options.engine.whole_map_body_radius,
+                 "merge engine: metres; blobs of wall wholly this close to where a robot drove "
+                 "are its body, not walls seen through, in the whole-map check "
+                 "(MergeEngineOptions::whole_map_body_radius; 0: counted as walls)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--cross-retry-growth", options.engine.cross_retry_growth,
                  "merge engine: a submap not yet joined is searched over another component's map "
                  "again once that map holds this many times as many finished submaps "

@@ -107,6 +107,12 @@ struct MergeEngineOptions {
   double whole_map_contradiction_ratio = 4.0;
   int whole_map_max_join_contradictions = 6;
   int whole_map_max_refuted = 8;
+  // Wall points are not counted as seen through when their blob of wall cells lies wholly within
+  // whole_map_body_radius (plus half a cell's diagonal) of where a robot of either part drove,
+  // at the alignment judged: that is the robot's body, mapped by another robot passing it
+  // (trail_walls.h). Without detections nothing masks them, and east_end joins crossed 14 such
+  // points, department_4robots' robot4 20-29 (session 23). 0 counts them.
+  double whole_map_body_radius = 0.35;
   // Alternatives are examined best first, and one that is neither nearly as good nor as
   // consistent does not end the search: one scoring less can still be as consistent where it
   // overlaps (stopping there let a department join 33 m / 180 deg off through; session 22). At
@@ -277,6 +283,8 @@ class MergeEngine {
                                     const Rigid2d& b_in_a);
   WholeMapVerdict SearchWholeMaps(const std::string& root_a, const std::string& root_b,
                                   const Rigid2d& b_in_a) const;
+  // Where the robots of a component drove (scan positions, its frame).
+  std::vector<Eigen::Vector2d> TrailPositions(const std::string& root) const;
   // merge_engine_loops.cc
   void ProcessLoopClosures(MergeUpdate* update);
   void Consider(Hypothesis hypothesis, MergeUpdate* update);

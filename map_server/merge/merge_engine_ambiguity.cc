@@ -13,8 +13,56 @@
 #include "map_server/merge/grid_points.h"
 #include "map_server/merge/internal/merge_engine_state.h"
 #include "map_server/merge/merge_engine.h"
+#include "map_server/merge/trail_walls.h"
 
 namespace fleetmap {
+
+namespace {
+
+constexpr double kTrailResolution = 0.05;  // metres
+
+// The wall points of a map a robot's body does not explain: `blob_of[i]` is point i's blob,
+// excused where `own` (the map's own robots' trails) or `other` (the other part's) says so.
+std::vector<Eigen::Vector2d> WallsOffTrails(const std::vector<Eigen::Vector2d>& points,
+                                            const std::vector<int>& blob_of,
+                                            const std::vector<bool>& own,
+                                            const std::vector<bool>& other) {
+  std::vector<Eigen::Vector2d> kept;
+  kept.reserve(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const int blob = blob_of[i];
+    if (blob >= 0 && (own[blob] || other[blob])) continue;
+    kept.push_back(points[i]);
+  }
+  return kept;
+}
+
+std::vector<int> BlobsOf(const WallBlobs& blobs, const std::vector<Eigen::Vector2d>& points) {
+  std::vector<int> blob_of;
+  blob_of.reserve(points.size());
+  for (const Eigen::Vector2d& p : points) blob_of.push_back(blobs.BlobAt(p));
+  return blob_of;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector2d> MergeEngine::TrailPositions(const std::string& root) const {
+  std::vector<Eigen::Vector2d> positions;
+  for (const std::string& m : Members(root)) {
+    for (const auto& [id, submap] : robots_.at(m)->submaps) {
+      const auto pose = graph_.NodePose({m, id});
+      if (!pose) continue;
+      const Rigid2d local_to_frame = *pose * submap.submap_in_local.inverse();
+      for (const StampedPose& p : submap.scan_poses) {
+        const Eigen::Vector2d at = local_to_frame * p.pose.translation();
+        if (positions.empty() || (at - positions.back()).norm() >= kTrailResolution) {
+          positions.push_back(at);
+        }
+      }
+    }
+  }
+  return positions;
+}
 
 MergeEngine::WholeMapVerdict MergeEngine::WholeMapAmbiguity(const std::string& root_a,
                                                             const std::string& root_b,
@@ -57,6 +105,20 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
   // The other direction, for contradictions: a's walls in space b saw free.
   const MatchTarget reverse_target(map_b, match_options);
   const MatchSource reverse_source = MakeMatchSource(map_a, Rigid2d(), match_options);
+  // Bodies mapped where robots passed are not walls seen through (trail_walls.h).
+  const float occupied = match_options.grid.occupied_log_odds;
+  const WallBlobs blobs_a(map_a, occupied), blobs_b(map_b, occupied);
+  const std::vector<int> blob_of_a = BlobsOf(blobs_a, reverse_source.fine);
+  const std::vector<int> blob_of_b = BlobsOf(blobs_b, source.fine);
+  const double trail_radius = options_.whole_map_body_radius + resolution * M_SQRT1_2;
+  const TrailMask trails_a(options_.whole_map_body_radius > 0.0 ? TrailPositions(root_a)
+                                                                : std::vector<Eigen::Vector2d>(),
+                           trail_radius, kTrailResolution);
+  const TrailMask trails_b(options_.whole_map_body_radius > 0.0 ? TrailPositions(root_b)
+                                                                : std::vector<Eigen::Vector2d>(),
+                           trail_radius, kTrailResolution);
+  const std::vector<bool> own_a = blobs_a.OnTrails(trails_a, Rigid2d());
+  const std::vector<bool> own_b = blobs_b.OnTrails(trails_b, Rigid2d());
   // Turn about the source's centroid, so that the window only has to cover the target.
   const Eigen::Vector2d c = Centroid(source.coarse);
   TransformSource(Rigid2d(-c, 0.0), &source);
@@ -68,13 +130,22 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     why << "the whole maps contradict it (score " << at_candidate.score << ")";
     return {why.str(), ""};
   }
-  // Walls of either map inside space the other saw free, at an alignment of the centred source.
+  // Walls of either map inside space the other saw free, at an alignment of the centred source,
+  // but for those on the robots' trails there.
   const auto contradictions = [&](const Rigid2d& centred_b_in_a) {
     const Rigid2d whole_b_in_a = centred_b_in_a * Rigid2d(-c, 0.0);
-    return target.ContradictionsAt(source.fine, centred_b_in_a) +
-           reverse_target.ContradictionsAt(reverse_source.fine, whole_b_in_a.inverse());
+    const std::vector<Eigen::Vector2d> walls_b =
+        WallsOffTrails(source.fine, blob_of_b, own_b, blobs_b.OnTrails(trails_a, whole_b_in_a));
+    const std::vector<Eigen::Vector2d> walls_a = WallsOffTrails(
+        reverse_source.fine, blob_of_a, own_a, blobs_a.OnTrails(trails_b, whole_b_in_a.inverse()));
+    return target.ContradictionsAt(walls_b, centred_b_in_a) +
+           reverse_target.ContradictionsAt(walls_a, whole_b_in_a.inverse());
   };
   const int candidate_contradictions = contradictions(candidate);
+  const int candidate_on_trails =
+      target.ContradictionsAt(source.fine, candidate) +
+      reverse_target.ContradictionsAt(reverse_source.fine, b_in_a.inverse()) -
+      candidate_contradictions;
   // The best fit near a lattice pose (within a cell and a few steps of heading).
   const auto refined = [&](const Rigid2d& pose) {
     SearchWindow near;
@@ -126,7 +197,8 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
         examined++ < options_.whole_map_max_examined ? alternatives.Next() : std::nullopt;
     WholeMapVerdict verdict;
     verdict.note = "the join puts " + std::to_string(candidate_contradictions) +
-                   " wall points in space the other map saw free";
+                   " wall points in space the other map saw free (and " +
+                   std::to_string(candidate_on_trails) + " on the robots' trails)";
     if (refuted > 0) {
       verdict.note += "; the whole maps' walls rule out " + std::to_string(refuted) +
                       " other alignment(s) scoring nearly as well (" + ruled_out.str() + ")";

@@ -225,5 +225,56 @@ TEST(MergeEngineAmbiguityTest, WithoutCountingWallsSeenThroughTheUnlikeTwinsJoin
   EXPECT_GT((TrueRelative(a, b).inverse() * *rel).translation().norm(), 5.0);
 }
 
+// Robot a passed robot b where b drove in the office: a's map holds b's body at places on b's
+// path that b's own scans saw free once it had moved on. At the true join those "walls" stand in
+// space b saw through; they are b's body, not a reason to doubt the join.
+std::unique_ptr<MergeEngine> BodiesEngine(double body_radius, SimRobot* a, SimRobot* b) {
+  *a = merge_fixtures::RobotA();
+  *b = merge_fixtures::RobotB(-2.4);
+  testing::SegmentWorld seen_by_a = testing::OfficeWorld();
+  for (const Eigen::Vector2d& body :
+       {Eigen::Vector2d(3.5, 4.9), Eigen::Vector2d(4.1, 5.31), Eigen::Vector2d(3.5, 7.1),
+        Eigen::Vector2d(3.5, 7.7), Eigen::Vector2d(10.55, 8.2)}) {
+    testing::AddBox(body - Eigen::Vector2d(0.2, 0.2), body + Eigen::Vector2d(0.2, 0.2), &seen_by_a);
+  }
+  MergeEngineOptions options;
+  options.max_global_searches_per_update = 100;
+  options.whole_map_body_radius = body_radius;
+  auto engine = std::make_unique<MergeEngine>(options);
+  Feed(seen_by_a, *a, engine.get());
+  Feed(testing::OfficeWorld(), *b, engine.get());
+  return engine;
+}
+
+TEST(MergeEngineAmbiguityTest, BodiesOnTheOtherRobotsPathAreNotWallsSeenThrough) {
+  SimRobot a, b;
+  auto engine = BodiesEngine(MergeEngineOptions().whole_map_body_radius, &a, &b);
+  std::string provenance;
+  for (int i = 0; i < 3 && !engine->RobotToGlobal("b"); ++i) {
+    for (const AlignmentEvent& e : engine->Update().events) {
+      if (e.type == AlignmentEventType::kAlignmentAccepted) provenance = e.reason;
+    }
+  }
+  const auto rel = EstimatedRelative(*engine, "a", "b");
+  ASSERT_TRUE(rel);
+  const Rigid2d error = TrueRelative(a, b).inverse() * *rel;
+  EXPECT_LT(error.translation().norm(), 0.05);
+  EXPECT_LT(std::abs(error.rotation()), 0.01);
+  EXPECT_NE(provenance.find("on the robots' trails"), std::string::npos) << provenance;
+}
+
+TEST(MergeEngineAmbiguityTest, CountedAsWallsTheBodiesKeepTheJoinWaiting) {
+  SimRobot a, b;
+  auto engine = BodiesEngine(0.0, &a, &b);
+  int contradicted = 0;
+  for (int i = 0; i < 3; ++i) {
+    for (const AlignmentEvent& e : engine->Update().events) {
+      contradicted += e.reason.find("the whole maps contradict it") != std::string::npos;
+    }
+  }
+  EXPECT_FALSE(engine->RobotToGlobal("b"));
+  EXPECT_GE(contradicted, 1);
+}
+
 }  // namespace
 }  // namespace fleetmap
