@@ -116,20 +116,10 @@ until "$CTL" --server "$ADDRESS" evaluate --ground-truth "$OUT/truth/manifest.ya
   fi
   sleep 1
 done
-# Let the worker fold in the last submaps: wait until no new version has come for 2 s (at most
-# 30 s), so the summary scores the final map.
-last_version=""
-unchanged=0
-for _ in $(seq 1 60); do
-  version=$("$CTL" --server "$ADDRESS" robots 2>/dev/null |
-            sed -n 's/.*latest version \([0-9]*\).*/\1/p' | head -n 1)
-  if [ -n "$version" ] && [ "$version" = "$last_version" ]; then
-    unchanged=$((unchanged + 1))
-    [ "$unchanged" -ge 4 ] && break
-  else
-    unchanged=0
-  fi
-  last_version=$version
+# Once uploads stop the server rebuilds the merge from its store, all at once (fleetmap-server
+# --settle-seconds): wait for that version (at most 120 s), so the summary scores the final map.
+for _ in $(seq 1 240); do
+  "$CTL" --server "$ADDRESS" history --limit 1 2>/dev/null | grep -q "uploads settled" && break
   sleep 0.5
 done
 

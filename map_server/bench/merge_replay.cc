@@ -25,19 +25,35 @@ namespace {
 constexpr double kFalseTranslation = 0.5;  // the bench's false-merge thresholds
 constexpr double kFalseRotation = 0.087;
 
+// Update() until the engine has no postponed work; the time of each call into `update_ms`.
+void UpdateUntilDone(MergeEngine* engine, std::vector<double>* update_ms) {
+  const size_t limit = update_ms->size() + 10000;
+  do {
+    const auto start = std::chrono::steady_clock::now();
+    engine->Update();
+    update_ms->push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count());
+  } while (engine->HasPendingWork() && update_ms->size() < limit);
+}
+
 // The worker's Rebuild() order: known placements, submaps by seq, trajectories, detections; then
-// Update() until the engine has no postponed work.
-void Replay(const StoreContents& store, MergeEngine* engine, RunResult* result) {
+// Update() until the engine has no postponed work. `one_at_a_time`: Update() after each submap
+// too, as a live server folds in uploads as they come.
+void Replay(const StoreContents& store, bool one_at_a_time, MergeEngine* engine,
+            RunResult* result) {
   std::string error;
   for (const RobotRecord& robot : store.robots) {
     if (robot.local_in_global) engine->SetKnownPlacement(robot.robot_id, *robot.local_in_global);
   }
+  std::vector<double> update_ms;
   for (const StoredSubmap& stored : store.submaps) {
     if (!engine->AddOrUpdateSubmap(stored.submap, &error)) {
       std::cerr << "merge_replay: engine refused submap " << stored.submap.robot_id << "/"
                 << stored.submap.submap_id << ": " << error << "\n";
     }
     result->submaps += stored.submap.finished;
+    if (one_at_a_time) UpdateUntilDone(engine, &update_ms);
   }
   for (const auto& [robot, trajectory] : store.trajectories) {
     if (!engine->SetTrajectory(robot, trajectory, &error)) {
@@ -46,18 +62,12 @@ void Replay(const StoreContents& store, MergeEngine* engine, RunResult* result) 
     }
   }
   for (const DetectionRecord& record : store.detections) engine->AddDetection(record.detection);
-  std::vector<double> update_ms;
-  do {
-    const auto start = std::chrono::steady_clock::now();
-    engine->Update();
-    update_ms.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count());
-  } while (engine->HasPendingWork() && update_ms.size() < 10000);
+  UpdateUntilDone(engine, &update_ms);
   result->median_update_ms = Median(update_ms);
   result->max_update_ms = *std::max_element(update_ms.begin(), update_ms.end());
-  // Everything arrives at once: the first Update() folds every submap in.
-  result->median_fold_ms = result->submaps > 0 ? update_ms.front() / result->submaps : 0.0;
+  // All at once, the first Update() folds every submap in.
+  result->median_fold_ms =
+      result->submaps > 0 && !one_at_a_time ? update_ms.front() / result->submaps : 0.0;
 }
 
 // The agents' local SLAM end-pose error, the start placed true (as the bench prints it).
@@ -128,7 +138,7 @@ bool LoadScoringWorld(const std::string& scenario, const std::string& truth_worl
 }
 
 int Run(const std::string& db, const std::string& truth_dir, const std::string& scenario,
-        bool diagnose) {
+        bool one_at_a_time, bool diagnose) {
   const auto wall_start = std::chrono::steady_clock::now();
   std::string error;
   StoreContents store;
@@ -153,7 +163,7 @@ int Run(const std::string& db, const std::string& truth_dir, const std::string& 
   RunResult result;
   AddDriftLines(store, files, truth, &result);
   MergeEngine engine;
-  Replay(store, &engine, &result);
+  Replay(store, one_at_a_time, &engine, &result);
   ScoreMapBounds(latest, truth, world, &result);
   ScoreMerge(engine, truth, world, kFalseTranslation, kFalseRotation, &result, &error);
   if (diagnose) PrintSubmapDiagnosis(engine, latest, truth);
@@ -168,7 +178,7 @@ int Run(const std::string& db, const std::string& truth_dir, const std::string& 
 
 int main(int argc, char** argv) {
   std::string db, truth, scenario;
-  bool diagnose = false;
+  bool diagnose = false, one_at_a_time = false;
   CLI::App app{
       "replays a finished run's server database into a fresh MergeEngine and scores the "
       "agents' local maps and the merge against the simulator's ground truth"};
@@ -179,8 +189,11 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", scenario,
                  "score against this scenario's world (file or shipped name) instead of the "
                  "truth folder's");
+  app.add_flag("--one-at-a-time", one_at_a_time,
+               "feed the submaps one at a time in the order they reached the server, with "
+               "Update() after each, as a live server folds uploads in (default: all at once)");
   app.add_flag("--diagnose", diagnose,
                "print every submap's anchor error and every graph edge's error against the truth");
   CLI11_PARSE(app, argc, argv);
-  return fleetmap::Run(db, truth, scenario, diagnose);
+  return fleetmap::Run(db, truth, scenario, one_at_a_time, diagnose);
 }

@@ -34,6 +34,9 @@ struct BenchOptions {
   double false_rotation = 0.087;
   bool verbose = false;
   bool diagnose = false;  // per-submap and per-edge errors against the truth
+  // Score a fresh engine fed everything at once at the end (the server's rebuild once uploads
+  // settle) instead of the engine fed as the run went, when it places at least as many robots.
+  bool settled_rebuild = false;
   MergeEngineOptions engine;
   bool mask_seen_robots = true;  // with detections: returns off seen robots kept out of local SLAM
   // Round bodies the laser alone finds masked too (the agent's detection.mask_laser_bodies).
@@ -92,6 +95,8 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
   double next_feed = options.feed_period;
   std::vector<RobotDetection> pending_detections;
   std::map<NodeId, Submap> latest_submaps;  // as the engine has them, for ScoreMapBounds
+  std::vector<NodeId> arrival;              // first arrival order, for a rebuild
+  std::vector<RobotDetection> all_detections;
   const auto feed = [&](bool last) {
     int new_submaps = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -104,12 +109,16 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
               submap.scan_poses.front().pose.inverse() * submap.submap_in_local,
               submap.scan_poses.front().timestamp};
         }
-        latest_submaps[NodeId{infos[i].name, submap.submap_id}] = submap;
+        const NodeId id{infos[i].name, submap.submap_id};
+        if (!latest_submaps.count(id)) arrival.push_back(id);
+        latest_submaps[id] = submap;
         engine.AddOrUpdateSubmap(submap);
       }
       engine.SetTrajectory(infos[i].name, slams[i]->trajectory());
     }
     for (const RobotDetection& d : pending_detections) engine.AddDetection(d);
+    all_detections.insert(all_detections.end(), pending_detections.begin(),
+                          pending_detections.end());
     pending_detections.clear();
     result->submaps += new_submaps;
     const auto print_events = [&](const MergeUpdate& update) {
@@ -241,10 +250,31 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
                   t.front().pose.rotation());
     result->lines.push_back(line);
   }
-  ScoreMerge(engine, run_truth, sim->world(), options.false_translation, options.false_rotation,
+  MergeEngine rebuilt(options.engine);
+  if (options.settled_rebuild) {
+    // As the server's worker rebuilds from its store: submaps in arrival order, then the
+    // trajectories and the detections, then Update() until nothing is postponed.
+    for (const NodeId& id : arrival) rebuilt.AddOrUpdateSubmap(latest_submaps.at(id));
+    for (size_t i = 0; i < n; ++i) rebuilt.SetTrajectory(infos[i].name, slams[i]->trajectory());
+    for (const RobotDetection& d : all_detections) rebuilt.AddDetection(d);
+    for (int i = 0; i == 0 || (i < 10000 && rebuilt.HasPendingWork()); ++i) rebuilt.Update();
+  }
+  // The server keeps the rebuild only when it places at least as many robots.
+  const bool rebuild_kept =
+      options.settled_rebuild && rebuilt.PlacedRobots().size() >= engine.PlacedRobots().size();
+  if (options.settled_rebuild) {
+    char line[160];
+    std::snprintf(line, sizeof(line),
+                  "  settled rebuild: %zu robots placed (the engine fed as the run went: %zu): %s",
+                  rebuilt.PlacedRobots().size(), engine.PlacedRobots().size(),
+                  rebuild_kept ? "kept" : "not kept");
+    result->lines.push_back(line);
+  }
+  const MergeEngine& scored = rebuild_kept ? rebuilt : engine;
+  ScoreMerge(scored, run_truth, sim->world(), options.false_translation, options.false_rotation,
              result, error);
   ScoreMapBounds(latest_submaps, run_truth, sim->world(), result);
-  if (options.diagnose) PrintSubmapDiagnosis(engine, latest_submaps, run_truth);
+  if (options.diagnose) PrintSubmapDiagnosis(scored, latest_submaps, run_truth);
   result->median_update_ms = Median(update_ms);
   result->max_update_ms =
       update_ms.empty() ? 0.0 : *std::max_element(update_ms.begin(), update_ms.end());
@@ -335,6 +365,10 @@ int main(int argc, char** argv) {
                  "a wall do not pull (PoseRefinerOptions::max_pull_distance; 0: no limit)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_flag("--settled-rebuild", options.settled_rebuild,
+               "score a fresh engine fed every final submap, trajectory and detection at once "
+               "(as the server rebuilds once uploads settle) instead of the engine fed as the "
+               "run went, when it places at least as many robots");
   app.add_option("--whole-map-body-radius", options.engine.whole_map_body_radius,
                  "merge engine: metres; blobs of wall wholly this close to where a robot drove "
                  "are its body, not walls seen through, in the whole-map check "

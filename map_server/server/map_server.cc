@@ -31,8 +31,8 @@ std::unique_ptr<MapServer> MapServer::Start(const MapServerOptions& options,
   server->store_ = std::move(store);
   if (options.merge_worker == "engine") {
     server->worker_ = std::make_unique<MergeEngineWorker>(
-        MergeEngineWorkerOptions{options.merge, options.merge_engine}, server->store_.get(),
-        &server->feed_);
+        MergeEngineWorkerOptions{options.merge, options.merge_engine, options.settle_seconds},
+        server->store_.get(), &server->feed_);
   } else {
     server->worker_ = std::make_unique<KnownPoseMergeWorker>(options.merge, server->store_.get(),
                                                              &server->feed_);

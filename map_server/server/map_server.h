@@ -25,6 +25,8 @@ struct MapServerOptions {
   // start pose are held there); "known-pose": KnownPoseMergeWorker (registered poses only).
   std::string merge_worker = "engine";
   MergeEngineOptions merge_engine;
+  // The engine worker's rebuild once uploads settle (MergeEngineWorkerOptions::settle_seconds).
+  double settle_seconds = MergeEngineWorkerOptions().settle_seconds;
   MapServiceOptions service;
   // Requests larger than this are refused by gRPC with RESOURCE_EXHAUSTED.
   int max_request_bytes = 64 << 20;

@@ -1,7 +1,9 @@
 #include "map_server/server/merge_engine_worker.h"
 
 #include <algorithm>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace fleetmap {
 namespace {
@@ -80,6 +82,10 @@ void MergeEngineWorker::Run() {
     }
     auto event = queue_.PopWait(std::chrono::milliseconds(50));
     const bool drained = !event.has_value();
+    if (event) {
+      settled_ = false;
+      last_input_ = std::chrono::steady_clock::now();
+    }
     // Apply what is queued, but run the engine and publish on time while uploads keep coming.
     const auto batch_start = std::chrono::steady_clock::now();
     while (event) {
@@ -90,6 +96,11 @@ void MergeEngineWorker::Run() {
     if (resync_needed_.exchange(false)) Rebuild("queue overflow: rebuilt from the store");
     // Searches postponed by the engine's per-update bounds continue while the queue is idle.
     if (engine_inputs_ || (!stopping_ && engine_->HasPendingWork())) RunEngine();
+    const auto quiet = std::chrono::duration<double>(options_.settle_seconds);
+    if (drained && !stopping_ && !settled_ && options_.settle_seconds > 0.0 &&
+        !engine_->HasPendingWork() && std::chrono::steady_clock::now() - last_input_ >= quiet) {
+      Settle();
+    }
     const bool due = std::chrono::steady_clock::now() - last_publish_ >= interval;
     if (dirty_ && (due || stopping_)) PublishVersion();
     if (stopping_ && drained) break;
@@ -248,6 +259,50 @@ void MergeEngineWorker::Rebuild(const std::string& trigger) {
   restored_.reset();
 }
 
+void MergeEngineWorker::Settle() {
+  settled_ = true;
+  const auto start = std::chrono::steady_clock::now();
+  // What to fall back to.
+  std::unique_ptr<MergeEngine> engine = std::move(engine_);
+  const size_t placed_before = engine->PlacedRobots().size();
+  auto robots = robots_;
+  auto trajectory_revisions = trajectory_revisions_;
+  auto submap_revisions = submap_revisions_;
+  auto detection_seqs = detection_seqs_;
+  auto status = status_;
+  const size_t events = new_events_.size();
+  const bool dirty = dirty_;
+  const std::string trigger = trigger_;
+  Rebuild("uploads settled: rebuilt from the store");
+  const size_t placed_after = engine_->PlacedRobots().size();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // A rebuild cut short by a shutdown is not the whole store's merge.
+  const bool keep = !stopping_ && placed_after >= placed_before;
+  if (!keep) {
+    engine_ = std::move(engine);
+    robots_ = std::move(robots);
+    trajectory_revisions_ = std::move(trajectory_revisions);
+    submap_revisions_ = std::move(submap_revisions);
+    detection_seqs_ = std::move(detection_seqs);
+    status_ = std::move(status);
+    new_events_.resize(events);
+    dirty_ = dirty;
+    trigger_ = trigger;
+    RefreshPlacements();
+  }
+  std::ostringstream outcome;
+  outcome << "rebuilt from the store in " << std::fixed << std::setprecision(1) << seconds
+          << " s, placing " << placed_after << " robot(s) against " << placed_before << " as fed";
+  std::cerr << "fleetmap-server: uploads settled: " << outcome.str()
+            << (keep ? "; the rebuild is kept" : "; the merge as fed is kept") << "\n";
+  if (!keep && !stopping_) {
+    // The version history says the check was made.
+    trigger_ = "uploads settled: the merge as fed is kept (" + outcome.str() + ")";
+    dirty_ = true;
+  }
+}
+
 void MergeEngineWorker::RefreshPlacements() {
   std::vector<RobotPlacementRecord> placements = MakePlacements(robots_, *engine_, status_);
   std::lock_guard<std::mutex> lock(placements_mutex_);
@@ -271,6 +326,11 @@ void MergeEngineWorker::PublishVersion() {
   info.quality["robots_unplaced"] = static_cast<double>(info.placements.size()) - placed;
   info.quality["submaps_placed"] = static_cast<double>(engine_->SubmapPoses().size());
   AddEngineProvenance(new_events_, engine_->Quality(), &info);
+  // A rebuild re-makes every join: say first that it was a rebuild.
+  if (!trigger_.empty() && trigger_.find("rebuilt from the store") != std::string::npos &&
+      info.trigger != trigger_) {
+    info.trigger = trigger_ + "; " + info.trigger;
+  }
   std::string error;
   std::optional<OccupancyGrid> grid =
       engine_->RenderGlobalMap(std::nullopt, options_.common.resolution, &error);

@@ -33,6 +33,12 @@ int main(int argc, char** argv) {
                  "known-pose: only robots registered with a start pose are placed")
       ->check(CLI::IsMember({"engine", "known-pose"}))
       ->capture_default_str();
+  app.add_option("--settle-seconds", options.settle_seconds,
+                 "engine worker: once nothing has been uploaded for this long, rebuild the merge "
+                 "from the store with everything at once, kept when it places at least as many "
+                 "robots (0: never)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_flag("--fsync", options.fsync_every_commit,
                "fsync every commit (survives power loss; default survives process crashes)");
   app.add_option("--port-file", port_file, "write the port actually listened on to this file");

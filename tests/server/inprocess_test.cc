@@ -1,7 +1,8 @@
 // A real server (SQLite store, loopback port) and a real client in one process.
-#include <thread>
-
 #include <gtest/gtest.h>
+
+#include <optional>
+#include <thread>
 
 #include "map_server/server/map_server.h"
 #include "tests/server/server_test_util.h"
@@ -113,6 +114,62 @@ TEST_F(InProcessTest, OutOfOrderTrajectoryIsFailedPrecondition) {
   EXPECT_EQ(stub_->UploadTrajectory(&context, request, &response).error_code(),
             grpc::StatusCode::FAILED_PRECONDITION);
 }
+
+// Once uploads stop for settle_seconds, the engine worker rebuilds the merge from the store
+// with everything at once (MergeEngineWorkerOptions::settle_seconds) and publishes it. Returns
+// that version, if one came within `wait_seconds`.
+std::optional<v1::VersionInfo> SettledVersion(double settle_seconds, double wait_seconds) {
+  const testing::ScopedTempDir dir("settle");
+  MapServerOptions options;
+  options.db_path = dir.path() + "/map.db";
+  options.listen = "127.0.0.1:0";
+  options.merge.min_version_interval = 0.05;
+  options.settle_seconds = settle_seconds;
+  std::string error;
+  const auto server = MapServer::Start(options, &error);
+  EXPECT_TRUE(server) << error;
+  if (!server) return std::nullopt;
+  const auto stub = v1::MapService::NewStub(MakeClientChannel(server->address()));
+  {
+    grpc::ClientContext context;
+    v1::RegisterRobotResponse response;
+    EXPECT_TRUE(
+        stub->RegisterRobot(&context, testing::MakeRegistration("r1", false), &response).ok());
+  }
+  v1::UploadSubmapsRequest upload;
+  upload.set_robot_id("r1");
+  *upload.add_submaps() = testing::MakeSubmapUpload(0, 0);
+  *upload.add_submaps() = testing::MakeSubmapUpload(1, 0, Rigid2d(2.0, 0.0, 0.0));
+  {
+    grpc::ClientContext context;
+    v1::UploadSubmapsResponse acks;
+    EXPECT_TRUE(stub->UploadSubmaps(&context, upload, &acks).ok());
+  }
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_seconds);
+  while (std::chrono::steady_clock::now() < deadline) {
+    grpc::ClientContext context;
+    v1::ListVersionsResponse versions;
+    EXPECT_TRUE(stub->ListVersions(&context, v1::ListVersionsRequest(), &versions).ok());
+    for (const v1::VersionInfo& v : versions.versions()) {
+      if (v.provenance().trigger().rfind("uploads settled", 0) == 0) return v;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return std::nullopt;
+}
+
+TEST(MergeSettleTest, OnceUploadsStopTheMergeIsRebuiltFromTheStore) {
+  const auto version = SettledVersion(0.2, 10.0);
+  ASSERT_TRUE(version) << "no version says the merge was rebuilt once uploads settled";
+  EXPECT_EQ(version->provenance().trigger().rfind("uploads settled: rebuilt from the store", 0), 0u)
+      << version->provenance().trigger();
+  ASSERT_EQ(version->placements_size(), 1);
+  EXPECT_TRUE(version->placements(0).placed()) << "the rebuild keeps the robot placed";
+}
+
+// Without settling no such version comes (so the test above can fail).
+TEST(MergeSettleTest, WithSettlingOffNoRebuildFollows) { EXPECT_FALSE(SettledVersion(0.0, 2.0)); }
 
 }  // namespace
 }  // namespace fleetmap
