@@ -65,8 +65,12 @@ echo "launch: scenario $SCENARIO_FILE"
 ROBOTS=$(sed -n 's/^  - name: //p' "$OUT/truth/manifest.yaml")
 WORLD=$(ls "$OUT"/truth/world/*.yaml | grep -v '\.world\.yaml$' | head -n 1)
 
+# At full speed the agents' uploads come seconds apart while they drive: the server may rebuild
+# the merge once they have paused for 3 s (its default, 30 s, is for robots in real time).
+SETTLE=()
+[ "$SPEED" = max ] && SETTLE=(--settle-seconds 3)
 "$SERVER" --db "$OUT/fleetmap.db" --listen 127.0.0.1:0 --port-file "$OUT/server.port" \
-  > "$OUT/logs/server.log" 2>&1 &
+  "${SETTLE[@]}" > "$OUT/logs/server.log" 2>&1 &
 PIDS+=($!)
 for _ in $(seq 1 100); do [ -s "$OUT/server.port" ] && break; sleep 0.1; done
 [ -s "$OUT/server.port" ] || { echo "launch: server did not start, see $OUT/logs/server.log" >&2; exit 1; }

@@ -82,13 +82,15 @@ void MergeEngineWorker::Run() {
     }
     auto event = queue_.PopWait(std::chrono::milliseconds(50));
     const bool drained = !event.has_value();
-    if (event) {
-      settled_ = false;
-      last_input_ = std::chrono::steady_clock::now();
-    }
     // Apply what is queued, but run the engine and publish on time while uploads keep coming.
     const auto batch_start = std::chrono::steady_clock::now();
     while (event) {
+      // Trajectory revisions come every few seconds while a robot drives or stands still; what
+      // settles is the map: submaps, detections, robots.
+      if (event->kind != MergeEvent::Kind::kTrajectoryStored) {
+        settled_ = false;
+        last_input_ = std::chrono::steady_clock::now();
+      }
       Apply(*event);
       if (std::chrono::steady_clock::now() - batch_start >= interval) break;
       event = queue_.PopWait(std::chrono::milliseconds(0));

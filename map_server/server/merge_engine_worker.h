@@ -24,12 +24,15 @@ struct MergeEngineWorkerOptions {
   // Queue, version pacing and map encoding: the same fields as the known-pose worker.
   KnownPoseMergeWorkerOptions common;
   MergeEngineOptions engine;
-  // Once nothing has been uploaded for this long, the engine is rebuilt from the store with
-  // everything at once, and the rebuild kept when it places at least as many robots. Fed as
-  // uploads come, a submap is matched against the maps of that moment, at the revision of that
-  // moment, and which join comes first depends on arrival order: with detections the department
-  // maps gained 0.8-2.4 points rebuilt (docs/BENCHMARKS.md, issue 8, session 24). 0: never.
-  double settle_seconds = 3.0;
+  // Once no submap, detection or robot registration has come for this long, the engine is
+  // rebuilt from the store with everything at once, and the rebuild kept when it places at least
+  // as many robots. Fed as uploads come, a submap is matched against the maps of that moment, at
+  // the revision of that moment, and which join comes first depends on arrival order: with
+  // detections the department maps gained 0.2-2.4 points rebuilt (docs/BENCHMARKS.md, issue 8,
+  // session 24). Longer than a robot's gaps between finished submaps while it drives in real
+  // time (about 20 s in the simulator's department; trajectory revisions do not count), since a
+  // rebuild redoes every search. 0: never.
+  double settle_seconds = 30.0;
 };
 
 // The MergeWorker that merges robots of unknown start (issue 8): one thread owns a MergeEngine
@@ -82,7 +85,7 @@ class MergeEngineWorker : public MergeWorker {
   std::optional<VersionRecord> restored_;  // the stored version served until the first rebuild
   bool rebuild_pending_ = false;
   bool engine_inputs_ = false;  // the engine got data since its last Update()
-  bool settled_ = true;         // no upload since the last Settle() (or the start's rebuild)
+  bool settled_ = true;  // no submap, detection or robot since the last Settle() (or the start)
   std::chrono::steady_clock::time_point last_input_;
   int64_t covered_seq_ = 0;
   bool dirty_ = false;

@@ -34,9 +34,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"engine", "known-pose"}))
       ->capture_default_str();
   app.add_option("--settle-seconds", options.settle_seconds,
-                 "engine worker: once nothing has been uploaded for this long, rebuild the merge "
-                 "from the store with everything at once, kept when it places at least as many "
-                 "robots (0: never)")
+                 "engine worker: once no submap, detection or robot has come for this long, "
+                 "rebuild the merge from the store with everything at once, kept when it places "
+                 "at least as many robots (0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_flag("--fsync", options.fsync_every_commit,
