@@ -40,7 +40,8 @@ struct MergeEngineWorkerOptions {
 // engine Update() that changed the map it renders, stores and publishes a new version whose
 // provenance lists the engine's alignment events and quality figures. Robots registered with a
 // start pose are held there (MergeEngine::SetKnownPlacement), as with KnownPoseMergeWorker.
-// On start and on queue overflow the engine is rebuilt from the store.
+// On start and on queue overflow the engine is rebuilt from the store, and once uploads settle
+// (settle_seconds).
 class MergeEngineWorker : public MergeWorker {
  public:
   MergeEngineWorker(const MergeEngineWorkerOptions& options, MapStore* store, VersionFeed* feed);
