@@ -382,6 +382,10 @@ int main(int argc, char** argv) {
                  "a wall do not pull (PoseRefinerOptions::max_pull_distance; 0: no limit)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--odometry-robust-scale", options.engine.odometry_robust_scale,
+                 "merge engine: Cauchy scale, in sigmas, of consecutive-submap edges (0: none)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_flag("--settled-rebuild", options.settled_rebuild,
                "score a fresh engine fed every final submap, trajectory and detection at once "
                "(as the server rebuilds once uploads settle) instead of the engine fed as the "

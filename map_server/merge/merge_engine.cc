@@ -255,6 +255,7 @@ void MergeEngine::SyncNodes(MergeUpdate* update) {
                                  options_.odometry_translation_sigma_per_metre * length;
         edge.rotation_sigma = options_.odometry_rotation_sigma + options_.odometry_rotation_sigma_per_metre * length;
         edge.kind = EdgeKind::kOdometry;
+        edge.robust_scale = options_.odometry_robust_scale;
         const auto e = robot->odometry_edge.find(id);
         if (e == robot->odometry_edge.end()) {
           robot->odometry_edge[id] = graph_.AddEdge(edge);

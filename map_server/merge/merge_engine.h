@@ -169,6 +169,7 @@ struct MergeEngineOptions {
   double match_translation_sigma = 0.02;
   double match_rotation_sigma = 0.002;
   double robust_scale = 2.0;  // Cauchy scale, in sigmas, for inter-robot edges
+  double odometry_robust_scale = 0.0;  // the same for consecutive-submap edges (0: none)
   PoseGraphOptions graph;
 
   // The incrementally kept global map.
