@@ -138,7 +138,7 @@ bool LoadScoringWorld(const std::string& scenario, const std::string& truth_worl
 }
 
 int Run(const std::string& db, const std::string& truth_dir, const std::string& scenario,
-        bool one_at_a_time, bool diagnose) {
+        const MergeEngineOptions& options, bool one_at_a_time, bool diagnose) {
   const auto wall_start = std::chrono::steady_clock::now();
   std::string error;
   StoreContents store;
@@ -162,7 +162,7 @@ int Run(const std::string& db, const std::string& truth_dir, const std::string& 
   }
   RunResult result;
   AddDriftLines(store, files, truth, &result);
-  MergeEngine engine;
+  MergeEngine engine(options);
   Replay(store, one_at_a_time, &engine, &result);
   ScoreMapBounds(latest, truth, world, &result);
   ScoreMerge(engine, truth, world, kFalseTranslation, kFalseRotation, &result, &error);
@@ -179,6 +179,7 @@ int Run(const std::string& db, const std::string& truth_dir, const std::string& 
 int main(int argc, char** argv) {
   std::string db, truth, scenario;
   bool diagnose = false, one_at_a_time = false;
+  fleetmap::MergeEngineOptions options;
   CLI::App app{
       "replays a finished run's server database into a fresh MergeEngine and scores the "
       "agents' local maps and the merge against the simulator's ground truth"};
@@ -192,8 +193,12 @@ int main(int argc, char** argv) {
   app.add_flag("--one-at-a-time", one_at_a_time,
                "feed the submaps one at a time in the order they reached the server, with "
                "Update() after each, as a live server folds uploads in (default: all at once)");
+  app.add_option("--odometry-robust-scale", options.odometry_robust_scale,
+                 "merge engine: Cauchy scale, in sigmas, of consecutive-submap edges (0: none)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_flag("--diagnose", diagnose,
                "print every submap's anchor error and every graph edge's error against the truth");
   CLI11_PARSE(app, argc, argv);
-  return fleetmap::Run(db, truth, scenario, one_at_a_time, diagnose);
+  return fleetmap::Run(db, truth, scenario, options, one_at_a_time, diagnose);
 }
