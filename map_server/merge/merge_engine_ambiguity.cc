@@ -111,12 +111,12 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
   const std::vector<int> blob_of_a = BlobsOf(blobs_a, reverse_source.fine);
   const std::vector<int> blob_of_b = BlobsOf(blobs_b, source.fine);
   const double trail_radius = options_.whole_map_body_radius + resolution * M_SQRT1_2;
-  const TrailMask trails_a(options_.whole_map_body_radius > 0.0 ? TrailPositions(root_a)
-                                                                : std::vector<Eigen::Vector2d>(),
-                           trail_radius, kTrailResolution);
-  const TrailMask trails_b(options_.whole_map_body_radius > 0.0 ? TrailPositions(root_b)
-                                                                : std::vector<Eigen::Vector2d>(),
-                           trail_radius, kTrailResolution);
+  const auto trails_of = [&](const std::string& root) {
+    // An empty mask excuses nothing (whole_map_body_radius 0).
+    if (!(options_.whole_map_body_radius > 0.0)) return TrailMask({}, 0.0, kTrailResolution);
+    return TrailMask(TrailPositions(root), trail_radius, kTrailResolution);
+  };
+  const TrailMask trails_a = trails_of(root_a), trails_b = trails_of(root_b);
   const std::vector<bool> own_a = blobs_a.OnTrails(trails_a, Rigid2d());
   const std::vector<bool> own_b = blobs_b.OnTrails(trails_b, Rigid2d());
   // Turn about the source's centroid, so that the window only has to cover the target.
