@@ -193,6 +193,9 @@ int main(int argc, char** argv) {
   app.add_flag("--one-at-a-time", one_at_a_time,
                "feed the submaps one at a time in the order they reached the server, with "
                "Update() after each, as a live server folds uploads in (default: all at once)");
+  app.add_option("--edge-refine-window", options.edge_refine_window,
+                 "refine each match edge against its from-node's submap alone within this many "
+                 "metres (0: off)");
   app.add_option("--odometry-robust-scale", options.odometry_robust_scale,
                  "merge engine: Cauchy scale, in sigmas, of consecutive-submap edges (0: none)")
       ->check(CLI::NonNegativeNumber)

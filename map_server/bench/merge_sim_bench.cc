@@ -382,6 +382,9 @@ int main(int argc, char** argv) {
                  "a wall do not pull (PoseRefinerOptions::max_pull_distance; 0: no limit)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--edge-refine-window", options.engine.edge_refine_window,
+                 "refine each match edge against its from-node's submap alone within this many "
+                 "metres (0: off)");
   app.add_option("--odometry-robust-scale", options.engine.odometry_robust_scale,
                  "merge engine: Cauchy scale, in sigmas, of consecutive-submap edges (0: none)")
       ->check(CLI::NonNegativeNumber)

@@ -170,6 +170,16 @@ struct MergeEngineOptions {
   double match_rotation_sigma = 0.002;
   double robust_scale = 2.0;  // Cauchy scale, in sigmas, for inter-robot edges
   double odometry_robust_scale = 0.0;  // the same for consecutive-submap edges (0: none)
+  // A match found against a part's composite map becomes an edge from one node of that part;
+  // refined again against that node's submap alone (moving at most this far), the edge measures
+  // the two submaps rather than the composite as the graph placed it at that moment: the
+  // department's edges 5.0 -> 2.6 cm, 0.13 -> 0.09 deg off (docs/BENCHMARKS.md, issue 8,
+  // session 25). 0: not refined.
+  double edge_refine_window = 0.1;
+  double edge_refine_angular_window = 0.01;
+  // Along a direction that fewer of the refining submap's wall normals face (scatter
+  // eigenvalue; the agents' local SLAM uses the same figure), the composite's translation stays.
+  double edge_min_observed_normals = 0.03;
   PoseGraphOptions graph;
 
   // The incrementally kept global map.
@@ -229,6 +239,7 @@ class MergeEngine {
   struct RobotState;
   struct Hypothesis;
   struct CachedTarget;
+  struct CachedSubmapTarget;
   struct TimedPose {
     int64_t host_submap;
     Rigid2d robot_in_node;
@@ -321,6 +332,10 @@ class MergeEngine {
   std::optional<NodeId> NearestNode(const std::string& root, const std::string& excluded,
                                     const Eigen::Vector2d& point_in_frame) const;
   RelativeEdge MatchEdge(const NodeId& from, const NodeId& to, EdgeKind kind) const;
+  // The edge of a match placing submap `to` at `to_in_frame` in the frame of `from`'s part.
+  RelativeEdge MatchedEdge(const NodeId& from, const NodeId& to, const Rigid2d& to_in_frame,
+                           EdgeKind kind);
+  const MatchTarget& SubmapTarget(const NodeId& id);
 
   const MergeEngineOptions options_;
   std::map<std::string, std::unique_ptr<RobotState>> robots_;
@@ -341,6 +356,10 @@ class MergeEngine {
   int64_t joins_ = 0;
   bool review_joins_ = false;  // a detection contradicted its robots' joined map
   std::map<std::string, CachedTarget> targets_;
+  // The last few submaps refined against alone (MatchedEdge), least recently used dropped first:
+  // one target per submap of a 400-submap graph would hold 450 MB.
+  std::map<NodeId, CachedSubmapTarget> submap_targets_;
+  int64_t submap_target_uses_ = 0;
   struct CachedAmbiguity {
     std::string stamp;
     Rigid2d b_in_a;

@@ -146,9 +146,7 @@ bool MergeEngine::Verify(const Hypothesis& h, std::vector<RelativeEdge>* edges) 
     }
     const auto from = NearestNode(Root(h.robot_a), "", r.pose.translation());
     if (!from) continue;
-    RelativeEdge edge = MatchEdge(*from, {h.robot_b, id}, EdgeKind::kCrossMatch);
-    edge.to_in_from = graph_.NodePose(*from)->inverse() * r.pose;
-    edges->push_back(edge);
+    edges->push_back(MatchedEdge(*from, {h.robot_b, id}, r.pose, EdgeKind::kCrossMatch));
     return true;
   }
   return false;
@@ -264,8 +262,7 @@ void MergeEngine::ProcessCrossMatches(MergeUpdate* update) {
         h.robot_b = robot_id;
         h.local_b_in_local_a = LocalToFrame(h.robot_a)->inverse() * b_frame_in_a_frame * *LocalToFrame(robot_id);
         h.submaps_b = {id};
-        h.edge = MatchEdge(*from, {robot_id, id}, EdgeKind::kCrossMatch);
-        h.edge.to_in_from = graph_.NodePose(*from)->inverse() * submap_in_frame;
+        h.edge = MatchedEdge(*from, {robot_id, id}, submap_in_frame, EdgeKind::kCrossMatch);
         event.local_b_in_local_a = h.local_b_in_local_a;
         h.event = event;
         // A search again over a grown map supersedes what this submap's last search left waiting.
@@ -353,9 +350,7 @@ void MergeEngine::ProcessLocalConstraints(MergeUpdate* update) {
       if (!r.accepted) continue;
       const auto from = NearestNode(Root(robot_id), robot_id, r.pose.translation());
       if (!from) continue;
-      RelativeEdge edge = MatchEdge(*from, {robot_id, id}, EdgeKind::kCrossMatch);
-      edge.to_in_from = graph_.NodePose(*from)->inverse() * r.pose;
-      graph_.AddEdge(edge);
+      graph_.AddEdge(MatchedEdge(*from, {robot_id, id}, r.pose, EdgeKind::kCrossMatch));
       graph_dirty_ = true;
       AlignmentEvent event;
       event.type = AlignmentEventType::kConstraintAdded;

@@ -59,9 +59,7 @@ void MergeEngine::ProcessLoopClosures(MergeUpdate* update) {
       window.angular_half_extent = options_.local_angular_window;
       const MatchResult r = target.Match(SubmapSource(robot_id, id), window, options_.verify_gates);
       if (!r.accepted) continue;
-      RelativeEdge edge = MatchEdge(*nearest, {robot_id, id}, EdgeKind::kLoopClosure);
-      edge.to_in_from = graph_.NodePose(*nearest)->inverse() * r.pose;
-      graph_.AddEdge(edge);
+      graph_.AddEdge(MatchedEdge(*nearest, {robot_id, id}, r.pose, EdgeKind::kLoopClosure));
       graph_dirty_ = true;
       AlignmentEvent event;
       event.type = AlignmentEventType::kConstraintAdded;

@@ -1,13 +1,12 @@
 #include "robot_agent/slam/loop_closure.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <atomic>
 #include <thread>
 #include <utility>
 
-#include <Eigen/Eigenvalues>
-
-#include "robot_agent/slam/degeneracy.h"
+#include "shared/matching/degeneracy.h"
 #include "shared/matching/point_filter.h"
 
 namespace fleetmap {

@@ -1,11 +1,10 @@
 #include "robot_agent/slam/particle_proposal.h"
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <vector>
 
-#include <Eigen/Cholesky>
-
-#include "robot_agent/slam/degeneracy.h"
+#include "shared/matching/degeneracy.h"
 
 namespace fleetmap {
 namespace {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "robot_agent/slam/degeneracy.h"
 #include "robot_agent/slam/input_order.h"
+#include "shared/matching/degeneracy.h"
 #include "shared/matching/point_filter.h"
 
 namespace fleetmap {

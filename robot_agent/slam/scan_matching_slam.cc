@@ -4,9 +4,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "robot_agent/slam/degeneracy.h"
 #include "robot_agent/slam/input_order.h"
 #include "robot_agent/slam/seen_surface_filter.h"
+#include "shared/matching/degeneracy.h"
 #include "shared/matching/point_filter.h"
 
 namespace fleetmap {

@@ -1,11 +1,12 @@
-#include <cmath>
-#include <vector>
+#include "robot_agent/slam/particle_filter.h"
 
 #include <gtest/gtest.h>
 
-#include "robot_agent/slam/degeneracy.h"
-#include "robot_agent/slam/particle_filter.h"
+#include <cmath>
+#include <vector>
+
 #include "robot_agent/slam/particle_proposal.h"
+#include "shared/matching/degeneracy.h"
 #include "shared/matching/point_filter.h"
 #include "tests/support/test_support.h"
 

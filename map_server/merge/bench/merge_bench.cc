@@ -36,6 +36,7 @@ struct Config {
   double whole_map_ambiguity = MergeEngineOptions().whole_map_ambiguity;
   int whole_map_min_contradictions = MergeEngineOptions().whole_map_min_contradictions;
   double cross_retry_growth = MergeEngineOptions().cross_retry_growth;
+  double edge_refine_window = MergeEngineOptions().edge_refine_window;
   bool verbose = false;
 };
 
@@ -103,6 +104,7 @@ int Run(const Config& c) {
   options.whole_map_ambiguity = c.whole_map_ambiguity;
   options.whole_map_min_contradictions = c.whole_map_min_contradictions;
   options.cross_retry_growth = c.cross_retry_growth;
+  options.edge_refine_window = c.edge_refine_window;
   MergeEngine engine(options);
   std::vector<bool> corrupted;
   int detections_total = 0, next_detection_step = 0;
@@ -290,6 +292,11 @@ int main(int argc, char** argv) {
                  "a submap not yet joined is searched over another component's map again once "
                  "that map holds this many times as many finished submaps "
                  "(MergeEngineOptions::cross_retry_growth; 0: once)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--edge-refine-window", c.edge_refine_window,
+                 "each match edge refined again against its from-node's submap alone within this "
+                 "many metres (MergeEngineOptions::edge_refine_window; 0: not refined)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--outlier-fraction", c.outlier_fraction, "Fraction of corrupted detections")->check(CLI::Range(0.0, 1.0));

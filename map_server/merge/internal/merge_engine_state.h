@@ -61,6 +61,12 @@ struct MergeEngine::Hypothesis {
   int reviewed_at_submaps = 0;  // finished submaps in both parts when last checked
 };
 
+struct MergeEngine::CachedSubmapTarget {
+  int64_t revision = 0;
+  int64_t last_used = 0;
+  std::unique_ptr<MatchTarget> target;
+};
+
 struct MergeEngine::CachedTarget {
   std::string stamp;  // member robots and their canvas versions when built
   std::unique_ptr<MatchTarget> target;

@@ -1,9 +1,8 @@
-#ifndef FLEETMAP_ROBOT_AGENT_SLAM_DEGENERACY_H_
-#define FLEETMAP_ROBOT_AGENT_SLAM_DEGENERACY_H_
-
-#include <vector>
+#ifndef FLEETMAP_SHARED_MATCHING_DEGENERACY_H_
+#define FLEETMAP_SHARED_MATCHING_DEGENERACY_H_
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "shared/core/rigid2d.h"
 
@@ -24,4 +23,4 @@ Rigid2d KeepObservedDirections(const Rigid2d& predicted, const Rigid2d& matched,
 
 }  // namespace fleetmap
 
-#endif  // FLEETMAP_ROBOT_AGENT_SLAM_DEGENERACY_H_
+#endif  // FLEETMAP_SHARED_MATCHING_DEGENERACY_H_

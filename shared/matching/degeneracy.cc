@@ -1,4 +1,4 @@
-#include "robot_agent/slam/degeneracy.h"
+#include "shared/matching/degeneracy.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -16,9 +16,11 @@ Eigen::Matrix2d NormalScatter(const std::vector<Eigen::Vector2f>& points, double
     for (int k = 0; k < kMaxSteps; ++k) {
       const int next = j + step;
       if (next < 0 || next >= n) return -1;
-      if ((points[static_cast<size_t>(next)] - points[static_cast<size_t>(j)]).norm() > max_gap_f) return -1;
+      if ((points[static_cast<size_t>(next)] - points[static_cast<size_t>(j)]).norm() > max_gap_f)
+        return -1;
       j = next;
-      if ((points[static_cast<size_t>(j)] - points[static_cast<size_t>(i)]).norm() >= kSpan) return j;
+      if ((points[static_cast<size_t>(j)] - points[static_cast<size_t>(i)]).norm() >= kSpan)
+        return j;
     }
     return -1;
   };
@@ -27,7 +29,8 @@ Eigen::Matrix2d NormalScatter(const std::vector<Eigen::Vector2f>& points, double
   for (int i = 0; i < n; ++i) {
     const int back = walk(i, -1), forward = walk(i, 1);
     if (back < 0 || forward < 0) continue;
-    const Eigen::Vector2f tangent = points[static_cast<size_t>(forward)] - points[static_cast<size_t>(back)];
+    const Eigen::Vector2f tangent =
+        points[static_cast<size_t>(forward)] - points[static_cast<size_t>(back)];
     const float length = tangent.norm();
     if (length < 1e-6f) continue;
     const Eigen::Vector2d normal(-tangent.y() / length, tangent.x() / length);

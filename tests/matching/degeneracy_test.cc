@@ -1,7 +1,8 @@
-#include "robot_agent/slam/degeneracy.h"
+#include "shared/matching/degeneracy.h"
+
+#include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
-#include <gtest/gtest.h>
 
 #include "tests/support/test_support.h"
 
@@ -16,7 +17,8 @@ std::vector<Eigen::Vector2f> ScanPoints(const testing::SegmentWorld& world) {
 
 TEST(DegeneracyTest, PlainCorridorLeavesItsAxisUnobserved) {
   // A corridor along x, 2 m wide, whose ends are out of range.
-  const testing::SegmentWorld corridor = testing::BoxWorld(Eigen::Vector2d(-50.0, -1.0), Eigen::Vector2d(50.0, 1.0));
+  const testing::SegmentWorld corridor =
+      testing::BoxWorld(Eigen::Vector2d(-50.0, -1.0), Eigen::Vector2d(50.0, 1.0));
   const Eigen::Matrix2d scatter = NormalScatter(ScanPoints(corridor));
   EXPECT_LT(scatter(0, 0), 0.01);
   EXPECT_GT(scatter(1, 1), 0.9);
@@ -30,12 +32,14 @@ TEST(DegeneracyTest, PlainCorridorLeavesItsAxisUnobserved) {
 }
 
 TEST(DegeneracyTest, RoomObservesBothDirections) {
-  const testing::SegmentWorld room = testing::BoxWorld(Eigen::Vector2d(-1.0, -3.0), Eigen::Vector2d(4.0, 3.0));
+  const testing::SegmentWorld room =
+      testing::BoxWorld(Eigen::Vector2d(-1.0, -3.0), Eigen::Vector2d(4.0, 3.0));
   const Eigen::Matrix2d scatter = NormalScatter(ScanPoints(room));
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(scatter);
   EXPECT_GT(solver.eigenvalues()(0), 0.1);
   const Rigid2d predicted(1.0, 0.0, 0.0), matched(0.95, 0.02, 0.01);
-  EXPECT_THAT(KeepObservedDirections(predicted, matched, scatter, 0.03), testing::IsNearPose(matched, 1e-9, 1e-12));
+  EXPECT_THAT(KeepObservedDirections(predicted, matched, scatter, 0.03),
+              testing::IsNearPose(matched, 1e-9, 1e-12));
 }
 
 }  // namespace
