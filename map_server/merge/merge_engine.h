@@ -172,9 +172,9 @@ struct MergeEngineOptions {
   double odometry_robust_scale = 0.0;  // the same for consecutive-submap edges (0: none)
   // A match found against a part's composite map becomes an edge from one node of that part;
   // refined again against that node's submap alone (moving at most this far), the edge measures
-  // the two submaps rather than the composite as the graph placed it at that moment: the
-  // department's edges 5.0 -> 2.6 cm, 0.13 -> 0.09 deg off (docs/BENCHMARKS.md, issue 8,
-  // session 25). 0: not refined.
+  // the two submaps rather than the composite as the graph placed it at that moment
+  // (department_3robots' edges 4.7 -> 3.6 cm, 0.13 -> 0.10 deg off the truth on average;
+  // docs/BENCHMARKS.md, issue 8, session 25). 0: not refined.
   double edge_refine_window = 0.1;
   double edge_refine_angular_window = 0.01;
   // Along a direction that fewer of the refining submap's wall normals face (scatter
