@@ -1,7 +1,7 @@
 #ifndef FLEETMAP_MAP_SERVER_MERGE_INTERNAL_MERGE_ENGINE_STATE_H_
 #define FLEETMAP_MAP_SERVER_MERGE_INTERNAL_MERGE_ENGINE_STATE_H_
 
-// The merge engine's private bookkeeping, shared by its two implementation files.
+// The merge engine's private bookkeeping, shared by its implementation files (merge_engine*.cc).
 
 #include <map>
 #include <memory>
