@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "map_server/bench/engine_flags.h"
 #include "map_server/bench/merge_replay_inputs.h"
 #include "map_server/bench/merge_sim_report.h"
 #include "map_server/bench/merge_sim_scoring.h"
@@ -193,13 +194,7 @@ int main(int argc, char** argv) {
   app.add_flag("--one-at-a-time", one_at_a_time,
                "feed the submaps one at a time in the order they reached the server, with "
                "Update() after each, as a live server folds uploads in (default: all at once)");
-  app.add_option("--edge-refine-window", options.edge_refine_window,
-                 "refine each match edge against its from-node's submap alone within this many "
-                 "metres (0: off)");
-  app.add_option("--odometry-robust-scale", options.odometry_robust_scale,
-                 "merge engine: Cauchy scale, in sigmas, of consecutive-submap edges (0: none)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  fleetmap::AddEngineFlags(&app, &options);
   app.add_flag("--diagnose", diagnose,
                "print every submap's anchor error and every graph edge's error against the truth");
   CLI11_PARSE(app, argc, argv);

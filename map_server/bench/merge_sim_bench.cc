@@ -1,6 +1,7 @@
 // fleetmap-merge-sim-bench: simulator scenarios (unknown start poses) through local SLAM and
 // the MergeEngine in one process (no gRPC): relative transform error per robot pair, merged map
 // vs the true world, false merges and the time to fold data in; with and without detections.
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,8 +10,7 @@
 #include <map>
 #include <random>
 
-#include <CLI/CLI.hpp>
-
+#include "map_server/bench/engine_flags.h"
 #include "map_server/bench/merge_sim_report.h"
 #include "map_server/bench/merge_sim_scoring.h"
 #include "map_server/merge/merge_engine.h"
@@ -345,14 +345,6 @@ int main(int argc, char** argv) {
   app.add_option("--laser-body-min-returns", options.laser_bodies.min_returns,
                  "fewest returns a round body found by the laser alone must have")
       ->capture_default_str();
-  app.add_option(
-         "--odometry-sigma-per-metre", options.engine.odometry_translation_sigma_per_metre,
-         "merge engine: translation sigma of consecutive-submap edges per metre between them")
-      ->capture_default_str();
-  app.add_option("--odometry-rotation-sigma-per-metre",
-                 options.engine.odometry_rotation_sigma_per_metre,
-                 "merge engine: rotation sigma (rad) of consecutive-submap edges per metre")
-      ->capture_default_str();
   app.add_option("--algorithm", options.algorithm,
                  "every robot's local SLAM backend (the agent's default is scan-matching)")
       ->check(CLI::IsMember(fleetmap::LocalSlamAlgorithms()))
@@ -364,47 +356,11 @@ int main(int argc, char** argv) {
          "--submap-travel", options.submap_travel,
          "scan-matching local SLAM: metres of travel per submap (default: the backend's, 10)")
       ->check(CLI::Range(0.1, 1000.0));
-  app.add_option("--whole-map-ambiguity", options.engine.whole_map_ambiguity,
-                 "merge engine: a join on matches alone waits while another alignment of the "
-                 "whole maps scores this share of it (MergeEngineOptions::whole_map_ambiguity; 0: "
-                 "no check)")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
-  app.add_option("--whole-map-min-contradictions", options.engine.whole_map_min_contradictions,
-                 "merge engine: an alternative alignment of the whole maps stops blocking a join "
-                 "when their walls cross seen-free space there at this many points plus 4 times "
-                 "the join's, and a join that puts this many there itself waits "
-                 "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  app.add_option("--max-pull-distance", options.engine.match.refine.max_pull_distance,
-                 "merge engine: metres; in a match's refinement, points farther than this from "
-                 "a wall do not pull (PoseRefinerOptions::max_pull_distance; 0: no limit)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  app.add_option("--edge-refine-window", options.engine.edge_refine_window,
-                 "refine each match edge against its from-node's submap alone within this many "
-                 "metres (0: off)");
-  app.add_option("--odometry-robust-scale", options.engine.odometry_robust_scale,
-                 "merge engine: Cauchy scale, in sigmas, of consecutive-submap edges (0: none)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
   app.add_flag("--settled-rebuild", options.settled_rebuild,
                "score a fresh engine fed every final submap, trajectory and detection at once "
                "(as the server rebuilds once uploads settle) instead of the engine fed as the "
                "run went, when it places at least as many robots");
-  app.add_option("--whole-map-body-radius", options.engine.whole_map_body_radius,
-                 "merge engine: metres; blobs of wall wholly this close to where a robot drove "
-                 "are its body, not walls seen through, in the whole-map check "
-                 "(MergeEngineOptions::whole_map_body_radius; 0: counted as walls)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  app.add_option("--cross-retry-growth", options.engine.cross_retry_growth,
-                 "merge engine: a submap not yet joined is searched over another component's map "
-                 "again once that map holds this many times as many finished submaps "
-                 "(MergeEngineOptions::cross_retry_growth; 0: once)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  fleetmap::AddEngineFlags(&app, &options.engine);
   app.add_option("--seeds", seeds,
                  "runs per scenario, with the scenario's seed, then seed + 1, ... (a summary line "
                  "per scenario when more than one)")

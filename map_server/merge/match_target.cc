@@ -48,6 +48,24 @@ void AppendSource(const MatchSource& part, MatchSource* source) {
   append(part.fine_normals, &source->fine_normals);
 }
 
+void KeepPointsSeenBy(const OccupancyGrid& grid, const Rigid2d& source_to_grid,
+                      MatchSource* source) {
+  const auto seen = [&](const std::vector<Eigen::Vector2d>& points) {
+    std::vector<size_t> indices;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const CellIndex cell = grid.CellAt(source_to_grid * points[i]);
+      if (grid.Contains(cell) && grid.IsKnown(cell)) indices.push_back(i);
+    }
+    return indices;
+  };
+  const std::vector<size_t> coarse = seen(source->coarse);
+  Keep(coarse, &source->coarse);
+  Keep(coarse, &source->coarse_normals);
+  const std::vector<size_t> fine = seen(source->fine);
+  Keep(fine, &source->fine);
+  Keep(fine, &source->fine_normals);
+}
+
 void ThinSource(double fine_voxel, const MatchTargetOptions& options, MatchSource* source) {
   const std::vector<size_t> coarse =
       VoxelFilterIndices(source->coarse, options.source_voxel, options.max_source_points);

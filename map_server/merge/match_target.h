@@ -57,6 +57,9 @@ MatchSource MakeMatchSource(const OccupancyGrid& grid, const Rigid2d& grid_to_so
 void TransformSource(const Rigid2d& t, MatchSource* source);
 // Appends `part`'s points to `source`.
 void AppendSource(const MatchSource& part, MatchSource* source);
+// Keeps the points of `source` that land, at `source_to_grid`, on cells `grid` observed.
+void KeepPointsSeenBy(const OccupancyGrid& grid, const Rigid2d& source_to_grid,
+                      MatchSource* source);
 // Keeps one point per voxel and at most as many points as MakeMatchSource keeps; `fine_voxel`
 // is the fine points' voxel size.
 void ThinSource(double fine_voxel, const MatchTargetOptions& options, MatchSource* source);

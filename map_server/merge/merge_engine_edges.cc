@@ -45,20 +45,7 @@ RelativeEdge MergeEngine::MatchedEdge(const NodeId& from, const NodeId& to,
   // others would pull towards whatever wall of `from` happens to be near.
   const OccupancyGrid& from_grid = robots_.at(from.robot)->submaps.at(from.submap).grid;
   MatchSource seen = SubmapSource(to.robot, to.submap);
-  auto keep_seen = [&](std::vector<Eigen::Vector2d>* points,
-                       std::vector<Eigen::Vector2d>* normals) {
-    size_t kept = 0;
-    for (size_t i = 0; i < points->size(); ++i) {
-      const CellIndex cell = from_grid.CellAt(window.center * (*points)[i]);
-      if (!from_grid.Contains(cell) || !from_grid.IsKnown(cell)) continue;
-      (*points)[kept] = (*points)[i];
-      (*normals)[kept++] = (*normals)[i];
-    }
-    points->resize(kept);
-    normals->resize(kept);
-  };
-  keep_seen(&seen.coarse, &seen.coarse_normals);
-  keep_seen(&seen.fine, &seen.fine_normals);
+  KeepPointsSeenBy(from_grid, window.center, &seen);
   const MatchResult r = target.Match(seen, window, gates);
   // The refinement may leave the window (its last step is unbounded): then it slid.
   const Eigen::Vector2d moved = r.pose.translation() - window.center.translation();

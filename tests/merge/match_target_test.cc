@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "tests/merge/merge_test_worlds.h"
@@ -143,6 +144,31 @@ TEST_F(MatchTargetTest, CountsSourceWallsInsideSpaceTheTargetSawFree) {
   EXPECT_LE(target.ContradictionsAt(source.fine, Rigid2d()), 5);
   EXPECT_GE(target.ContradictionsAt(source.fine, Rigid2d(1.5, 1.5, 0.0)), 100);
   EXPECT_EQ(target.ContradictionsAt(source.fine, Rigid2d(100.0, 0.0, 0.0)), 0);
+}
+
+// A source reaching past what the target saw keeps only the points on the target's observed
+// cells, each with its own normal; shifted far away from the target, none.
+TEST_F(MatchTargetTest, KeepsOnlyThePointsTheTargetSaw) {
+  const OccupancyGrid left_room = testing::GridFromScans(world_, {Rigid2d(3.5, 6, 0)}, Rigid2d());
+  const MatchSource whole = MakeMatchSource(target_grid_, Rigid2d(), options_);
+  MatchSource seen = whole;
+  KeepPointsSeenBy(left_room, Rigid2d(), &seen);
+  ASSERT_GT(seen.fine.size(), 50u);
+  EXPECT_LT(seen.fine.size(), whole.fine.size());
+  EXPECT_LT(seen.coarse.size(), whole.coarse.size());
+  ASSERT_EQ(seen.fine_normals.size(), seen.fine.size());
+  ASSERT_EQ(seen.coarse_normals.size(), seen.coarse.size());
+  for (size_t i = 0; i < seen.fine.size(); ++i) {
+    EXPECT_TRUE(left_room.IsKnown(left_room.CellAt(seen.fine[i])));
+    const size_t j = static_cast<size_t>(
+        std::find(whole.fine.begin(), whole.fine.end(), seen.fine[i]) - whole.fine.begin());
+    ASSERT_LT(j, whole.fine.size());
+    EXPECT_EQ(seen.fine_normals[i], whole.fine_normals[j]);
+  }
+  MatchSource far = whole;
+  KeepPointsSeenBy(left_room, Rigid2d(100.0, 0.0, 0.0), &far);
+  EXPECT_TRUE(far.fine.empty());
+  EXPECT_TRUE(far.coarse.empty());
 }
 
 // Along a corridor every shift fits: each zone excluded rules out one more of them, and the

@@ -1,0 +1,55 @@
+#include "map_server/bench/engine_flags.h"
+
+namespace fleetmap {
+
+void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
+  app->add_option(
+         "--odometry-sigma-per-metre", options->odometry_translation_sigma_per_metre,
+         "merge engine: translation sigma of consecutive-submap edges per metre between them")
+      ->capture_default_str();
+  app->add_option("--odometry-rotation-sigma-per-metre", options->odometry_rotation_sigma_per_metre,
+                  "merge engine: rotation sigma (rad) of consecutive-submap edges per metre")
+      ->capture_default_str();
+  app->add_option("--whole-map-ambiguity", options->whole_map_ambiguity,
+                  "merge engine: a join on matches alone waits while another alignment of the "
+                  "whole maps scores this share of it (MergeEngineOptions::whole_map_ambiguity; 0: "
+                  "no check)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app->add_option("--whole-map-min-contradictions", options->whole_map_min_contradictions,
+                  "merge engine: an alternative alignment of the whole maps stops blocking a join "
+                  "when their walls cross seen-free space there at this many points plus 4 times "
+                  "the join's, and a join that puts this many there itself waits "
+                  "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option("--max-pull-distance", options->match.refine.max_pull_distance,
+                  "merge engine: metres; in a match's refinement, points farther than this from "
+                  "a wall do not pull (PoseRefinerOptions::max_pull_distance; 0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option("--edge-refine-window", options->edge_refine_window,
+                  "merge engine: metres; each match edge is refined again against the one submap "
+                  "it is tied to, moving at most this far (MergeEngineOptions::edge_refine_window; "
+                  "0: not refined)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option("--odometry-robust-scale", options->odometry_robust_scale,
+                  "merge engine: Cauchy scale, in sigmas, of consecutive-submap edges (0: none)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option("--whole-map-body-radius", options->whole_map_body_radius,
+                  "merge engine: metres; blobs of wall wholly this close to where a robot drove "
+                  "are its body, not walls seen through, in the whole-map check "
+                  "(MergeEngineOptions::whole_map_body_radius; 0: counted as walls)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option("--cross-retry-growth", options->cross_retry_growth,
+                  "merge engine: a submap not yet joined is searched over another component's map "
+                  "again once that map holds this many times as many finished submaps "
+                  "(MergeEngineOptions::cross_retry_growth; 0: once)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+}
+
+}  // namespace fleetmap
