@@ -336,6 +336,8 @@ class MergeEngine {
   RelativeEdge MatchedEdge(const NodeId& from, const NodeId& to, const Rigid2d& to_in_frame,
                            EdgeKind kind);
   const MatchTarget& SubmapTarget(const NodeId& id);
+  // Whether a match edge from `from` to `to` is in the graph already.
+  bool HasMatchEdge(const NodeId& from, const NodeId& to) const;
 
   const MergeEngineOptions options_;
   std::map<std::string, std::unique_ptr<RobotState>> robots_;

@@ -27,6 +27,13 @@ const MatchTarget& MergeEngine::SubmapTarget(const NodeId& id) {
   return *cached.target;
 }
 
+bool MergeEngine::HasMatchEdge(const NodeId& from, const NodeId& to) const {
+  return std::any_of(graph_.edges().begin(), graph_.edges().end(), [&](const RelativeEdge& e) {
+    return e.from == from && e.to == to &&
+           (e.kind == EdgeKind::kCrossMatch || e.kind == EdgeKind::kDetectionMatch);
+  });
+}
+
 RelativeEdge MergeEngine::MatchedEdge(const NodeId& from, const NodeId& to,
                                       const Rigid2d& to_in_frame, EdgeKind kind) {
   RelativeEdge edge = MatchEdge(from, to, kind);

@@ -184,6 +184,9 @@ bool MergeEngine::MostlySeenBefore(const std::string& robot, int64_t id,
 
 void MergeEngine::Accept(const Hypothesis& h, const std::vector<RelativeEdge>& extra, MergeUpdate* update) {
   JoinComponents(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
+  // The joined robots' maps move into the part's frame now: what is matched against the part
+  // later in this update (other reviews, searches, local constraints) must see them there.
+  RefreshCanvases(update);
   graph_.AddEdge(h.edge);
   for (const RelativeEdge& e : extra) graph_.AddEdge(e);
   if (h.detection_edge) graph_.AddDetection(*h.detection_edge);
@@ -350,6 +353,9 @@ void MergeEngine::ProcessLocalConstraints(MergeUpdate* update) {
       if (!r.accepted) continue;
       const auto from = NearestNode(Root(robot_id), robot_id, r.pose.translation());
       if (!from) continue;
+      // The match that joined this submap may already tie it to that node: the same measurement
+      // twice would weigh as two.
+      if (HasMatchEdge(*from, {robot_id, id})) continue;
       graph_.AddEdge(MatchedEdge(*from, {robot_id, id}, r.pose, EdgeKind::kCrossMatch));
       graph_dirty_ = true;
       AlignmentEvent event;

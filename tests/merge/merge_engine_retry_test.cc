@@ -15,11 +15,13 @@ namespace {
 
 using namespace merge_fixtures;
 
-// Whether any event came from a global search of `robot`'s submap `id`.
+// Whether any event came from a global search of `robot`'s submap `id` (a local constraint, the
+// match of a submap already joined, is not one).
 bool Searched(const std::vector<MergeUpdate>& updates, const std::string& robot, int64_t id) {
   for (const MergeUpdate& u : updates) {
     for (const AlignmentEvent& e : u.events) {
-      if (e.evidence == EvidenceKind::kCrossMatch && e.robot_b == robot &&
+      if (e.evidence == EvidenceKind::kCrossMatch &&
+          e.type != AlignmentEventType::kConstraintAdded && e.robot_b == robot &&
           e.submaps_b == std::vector<int64_t>{id})
         return true;
     }
