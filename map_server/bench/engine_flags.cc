@@ -34,6 +34,12 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                   "0: not refined)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_option("--search-threads", options->search_threads,
+                  "merge engine: threads for an update's searches that do not depend on each "
+                  "other; the results are the same for any count "
+                  "(MergeEngineOptions::search_threads; 0: one per core)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app->add_option("--odometry-robust-scale", options->odometry_robust_scale,
                   "merge engine: Cauchy scale, in sigmas, of consecutive-submap edges (0: none)")
       ->check(CLI::NonNegativeNumber)

@@ -1,12 +1,13 @@
 #include "map_server/merge/merge_engine.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/Dense>
+#include <thread>
 
 #include "map_server/merge/internal/merge_engine_state.h"
 #include "map_server/merge/trajectory_lookup.h"
+#include "shared/core/thread_pool.h"
 
 namespace fleetmap {
 namespace {
@@ -41,7 +42,13 @@ const char* AlignmentEventTypeName(AlignmentEventType type) {
   return "unknown";
 }
 
-MergeEngine::MergeEngine(const MergeEngineOptions& options) : options_(options), graph_(options.graph) {}
+MergeEngine::MergeEngine(const MergeEngineOptions& options)
+    : options_(options),
+      graph_(options.graph),
+      search_pool_(std::make_unique<ThreadPool>(
+          options.search_threads > 0
+              ? options.search_threads
+              : std::max(1, static_cast<int>(std::thread::hardware_concurrency())))) {}
 MergeEngine::~MergeEngine() = default;
 
 MergeEngine::RobotState& MergeEngine::Robot(const std::string& id) {
@@ -317,8 +324,7 @@ MergeUpdate MergeEngine::Update() {
   if (ReviewJoins(&update)) ProcessDetections(&update);  // the withdrawn robot's, again
   ReviewMatchHypotheses(&update);  // before new searches: a local check is cheap
   ProcessCrossMatches(&update);
-  ProcessLocalConstraints(&update);
-  ProcessLoopClosures(&update);
+  ProcessNearbyMatches(&update);
   Solve(&update);
   RefreshCanvases(&update);
   update.placed_robots = PlacedRobots();

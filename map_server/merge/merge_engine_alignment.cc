@@ -17,22 +17,8 @@ namespace {
 // Added to a detection's relative-heading variance (rad^2): our own headings are not exact.
 constexpr double kHeadingVarianceFloor = 1e-4;
 
-Box2d Grow(Box2d box, double margin) {
-  box.min.array() -= margin;
-  box.max.array() += margin;
-  return box;
-}
-
 Eigen::Vector2d GridCenter(const OccupancyGrid& grid) {
   return grid.origin() + 0.5 * grid.resolution() * Eigen::Vector2d(grid.width(), grid.height());
-}
-
-void FillEvent(const MatchResult& r, AlignmentEvent* event) {
-  event->score = r.score;
-  event->ambiguity = r.ambiguity;
-  event->overlap = r.overlap;
-  event->residual = r.residual;
-  event->reason = r.reason;
 }
 
 }  // namespace

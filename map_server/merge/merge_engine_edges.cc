@@ -9,7 +9,7 @@
 
 namespace fleetmap {
 
-const MatchTarget& MergeEngine::SubmapTarget(const NodeId& id) {
+std::shared_ptr<const MatchTarget> MergeEngine::SubmapTarget(const NodeId& id) {
   constexpr size_t kCachedSubmapTargets = 32;
   const Submap& submap = robots_.at(id.robot)->submaps.at(id.submap);
   auto found = submap_targets_.find(id);
@@ -24,7 +24,7 @@ const MatchTarget& MergeEngine::SubmapTarget(const NodeId& id) {
     cached.revision = submap.revision;
   }
   cached.last_used = ++submap_target_uses_;
-  return *cached.target;
+  return cached.target;
 }
 
 bool MergeEngine::HasMatchEdge(const NodeId& from, const NodeId& to) const {
@@ -36,12 +36,30 @@ bool MergeEngine::HasMatchEdge(const NodeId& from, const NodeId& to) const {
 
 RelativeEdge MergeEngine::MatchedEdge(const NodeId& from, const NodeId& to,
                                       const Rigid2d& to_in_frame, EdgeKind kind) {
-  RelativeEdge edge = MatchEdge(from, to, kind);
-  edge.to_in_from = graph_.NodePose(from)->inverse() * to_in_frame;
-  if (options_.edge_refine_window <= 0.0) return edge;
-  const MatchTarget& target = SubmapTarget(from);
+  return RefineMatchedEdge(PrepareMatchedEdge(from, to, to_in_frame, kind));
+}
+
+MergeEngine::EdgeToRefine MergeEngine::PrepareMatchedEdge(const NodeId& from, const NodeId& to,
+                                                          const Rigid2d& to_in_frame,
+                                                          EdgeKind kind) {
+  EdgeToRefine prepared;
+  prepared.edge = MatchEdge(from, to, kind);
+  prepared.edge.to_in_from = graph_.NodePose(from)->inverse() * to_in_frame;
+  if (options_.edge_refine_window <= 0.0) return prepared;
   const auto to_box = robots_.at(to.robot)->known_boxes.at(to.submap);
-  if (target.empty() || !to_box) return edge;
+  if (!to_box) return prepared;
+  prepared.from_target = SubmapTarget(from);
+  prepared.from_grid = &robots_.at(from.robot)->submaps.at(from.submap).grid;
+  prepared.from_walls = &SubmapSource(from.robot, from.submap);
+  prepared.to_source = &SubmapSource(to.robot, to.submap);
+  prepared.to_box = *to_box;
+  return prepared;
+}
+
+RelativeEdge MergeEngine::RefineMatchedEdge(const EdgeToRefine& prepared) const {
+  RelativeEdge edge = prepared.edge;
+  if (!prepared.from_target || prepared.from_target->empty()) return edge;
+  const MatchTarget& target = *prepared.from_target;
   SearchWindow window;
   window.center = edge.to_in_from;
   window.linear_half_extent = Eigen::Vector2d::Constant(options_.edge_refine_window);
@@ -50,9 +68,8 @@ RelativeEdge MergeEngine::MatchedEdge(const NodeId& from, const NodeId& to,
   gates.judge_overlap_only = true;
   // Only the points landing where `from` saw anything say where `to` lies against it; the
   // others would pull towards whatever wall of `from` happens to be near.
-  const OccupancyGrid& from_grid = robots_.at(from.robot)->submaps.at(from.submap).grid;
-  MatchSource seen = SubmapSource(to.robot, to.submap);
-  KeepPointsSeenBy(from_grid, window.center, &seen);
+  MatchSource seen = *prepared.to_source;
+  KeepPointsSeenBy(*prepared.from_grid, window.center, &seen);
   const MatchResult r = target.Match(seen, window, gates);
   // The refinement may leave the window (its last step is unbounded): then it slid.
   const Eigen::Vector2d moved = r.pose.translation() - window.center.translation();
@@ -63,8 +80,8 @@ RelativeEdge MergeEngine::MatchedEdge(const NodeId& from, const NodeId& to,
   }
   // One submap alone may be a stretch of corridor, free to slide along its axis: along the
   // directions its walls where the two overlap do not face, the composite's answer stays.
-  const MatchSource& walls = SubmapSource(from.robot, from.submap);
-  const Box2d overlap = PlaceBox(*to_box, r.pose);
+  const MatchSource& walls = *prepared.from_walls;
+  const Box2d overlap = PlaceBox(prepared.to_box, r.pose);
   Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
   int count = 0;
   for (size_t i = 0; i < walls.fine.size(); ++i) {

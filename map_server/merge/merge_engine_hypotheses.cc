@@ -10,23 +10,6 @@
 #include "map_server/merge/merge_engine.h"
 
 namespace fleetmap {
-namespace {
-
-Box2d Grow(Box2d box, double margin) {
-  box.min.array() -= margin;
-  box.max.array() += margin;
-  return box;
-}
-
-void FillEvent(const MatchResult& r, AlignmentEvent* event) {
-  event->score = r.score;
-  event->ambiguity = r.ambiguity;
-  event->overlap = r.overlap;
-  event->residual = r.residual;
-  event->reason = r.reason;
-}
-
-}  // namespace
 
 MergeEngine::DetectionVotes MergeEngine::DetectionsAbout(const Hypothesis& h) const {
   DetectionVotes votes;
@@ -328,45 +311,6 @@ void MergeEngine::ReviewMatchHypotheses(MergeUpdate* update) {
                       ", nothing as good over the whole maps";
     if (!whole.note.empty()) h.event.reason += " (" + whole.note + ")";
     Accept(h, edges, update);
-  }
-}
-
-void MergeEngine::ProcessLocalConstraints(MergeUpdate* update) {
-  if (!options_.local_constraints) return;
-  int budget = options_.max_local_searches_per_update;
-  for (auto& [robot_id, robot] : robots_) {
-    if (Members(Root(robot_id)).size() < 2) continue;  // nobody else to match against yet
-    for (int64_t id : std::vector<int64_t>(robot->local_queue.begin(), robot->local_queue.end())) {
-      const auto pose = graph_.NodePose({robot_id, id});
-      if (!pose) continue;
-      if (budget-- <= 0) return;
-      robot->local_queue.erase(id);
-      const auto bounds = robot->SubmapBounds(id, *pose);
-      if (!bounds) continue;
-      const auto target = CroppedTarget(Root(robot_id), robot_id, Grow(*bounds, 1.0));
-      if (target->empty()) continue;
-      SearchWindow window;
-      window.center = *pose;
-      window.linear_half_extent = options_.local_window;
-      window.angular_half_extent = options_.local_angular_window;
-      const MatchResult r = target->Match(SubmapSource(robot_id, id), window, options_.verify_gates);
-      if (!r.accepted) continue;
-      const auto from = NearestNode(Root(robot_id), robot_id, r.pose.translation());
-      if (!from) continue;
-      // The match that joined this submap may already tie it to that node: the same measurement
-      // twice would weigh as two.
-      if (HasMatchEdge(*from, {robot_id, id})) continue;
-      graph_.AddEdge(MatchedEdge(*from, {robot_id, id}, r.pose, EdgeKind::kCrossMatch));
-      graph_dirty_ = true;
-      AlignmentEvent event;
-      event.type = AlignmentEventType::kConstraintAdded;
-      event.evidence = EvidenceKind::kCrossMatch;
-      event.robot_a = from->robot;
-      event.robot_b = robot_id;
-      event.submaps_b = {id};
-      FillEvent(r, &event);
-      update->events.push_back(event);
-    }
   }
 }
 

@@ -1,4 +1,4 @@
-// MergeEngine: loop closures within one robot's map.
+// MergeEngine: loop closures within one robot's map (searched in merge_engine_nearby.cc).
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +16,7 @@ bool Overlaps(const Box2d& a, const Box2d& b) {
 
 }  // namespace
 
-void MergeEngine::ProcessLoopClosures(MergeUpdate* update) {
+void MergeEngine::PlanLoopClosures(std::vector<NearbySearch>* searches) {
   if (!options_.loop_closures) return;
   int budget = options_.max_loop_searches_per_update;
   for (auto& [robot_id, robot] : robots_) {
@@ -27,9 +27,7 @@ void MergeEngine::ProcessLoopClosures(MergeUpdate* update) {
       robot->loop_queue.erase(id);
       const auto bounds = robot->SubmapBounds(id, *pose);
       if (!bounds) continue;
-      Box2d box = *bounds;
-      box.min.array() -= 1.0;
-      box.max.array() += 1.0;
+      const Box2d box = Grow(*bounds, 1.0);
       // The robot's own older submaps (not its recent neighbours, which local SLAM already
       // ties to this one) rendered around the new submap.
       // Only the few nearest, so the cost stays bounded however often the robot came back.
@@ -42,36 +40,29 @@ void MergeEngine::ProcessLoopClosures(MergeUpdate* update) {
         if (!Overlaps(old_bounds, box)) continue;
         near.emplace_back((old_pose->translation() - pose->translation()).norm(), old_id);
       }
+      if (near.empty()) continue;
       std::sort(near.begin(), near.end());
       near.resize(std::min(near.size(), static_cast<size_t>(options_.loop_max_submaps)));
-      LogOddsCanvas canvas(options_.render_resolution);
+      std::vector<std::pair<const OccupancyGrid*, Rigid2d>> old_submaps;
       for (const auto& [distance, old_id] : near) {
-        canvas.AddSubmap(robot->submaps.at(old_id).grid, *graph_.NodePose({robot_id, old_id}), 1.0f);
+        old_submaps.emplace_back(&robot->submaps.at(old_id).grid,
+                                 *graph_.NodePose({robot_id, old_id}));
       }
-      const std::optional<NodeId> nearest =
-          near.empty() ? std::nullopt : std::optional<NodeId>(NodeId{robot_id, near.front().second});
-      if (!nearest) continue;
-      const MatchTarget target(canvas.ToGrid(options_.render_grid, box), options_.match);
-      if (target.empty()) continue;
-      SearchWindow window;
-      window.center = *pose;
-      window.linear_half_extent = options_.local_window;
-      window.angular_half_extent = options_.local_angular_window;
-      const MatchResult r = target.Match(SubmapSource(robot_id, id), window, options_.verify_gates);
-      if (!r.accepted) continue;
-      graph_.AddEdge(MatchedEdge(*nearest, {robot_id, id}, r.pose, EdgeKind::kLoopClosure));
-      graph_dirty_ = true;
-      AlignmentEvent event;
-      event.type = AlignmentEventType::kConstraintAdded;
-      event.evidence = EvidenceKind::kLoopClosure;
-      event.robot_a = robot_id;
-      event.robot_b = robot_id;
-      event.submaps_b = {id};
-      event.score = r.score;
-      event.overlap = r.overlap;
-      event.residual = r.residual;
-      event.reason = "loop closure with submap " + std::to_string(nearest->submap) + ": " + r.reason;
-      update->events.push_back(event);
+      NearbySearch search;
+      search.kind = EdgeKind::kLoopClosure;
+      search.submap = {robot_id, id};
+      search.from = NodeId{robot_id, near.front().second};
+      search.make_target = [this, old_submaps, box] {
+        LogOddsCanvas canvas(options_.render_resolution);
+        for (const auto& [grid, pose] : old_submaps) canvas.AddSubmap(*grid, pose, 1.0f);
+        return std::make_unique<MatchTarget>(canvas.ToGrid(options_.render_grid, box),
+                                             options_.match);
+      };
+      search.source = &SubmapSource(robot_id, id);
+      search.window.center = *pose;
+      search.window.linear_half_extent = options_.local_window;
+      search.window.angular_half_extent = options_.local_angular_window;
+      searches->push_back(std::move(search));
     }
   }
 }

@@ -9,9 +9,9 @@
 
 #include "robot_agent/slam/particle_scan_matcher.h"
 #include "robot_agent/slam/shared_grid_tiles.h"
-#include "robot_agent/slam/thread_pool.h"
 #include "shared/core/laser_scan.h"
 #include "shared/core/rigid2d.h"
+#include "shared/core/thread_pool.h"
 
 namespace fleetmap {
 

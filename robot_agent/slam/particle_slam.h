@@ -14,7 +14,7 @@
 #include "robot_agent/slam/particle_loop_closure.h"
 #include "robot_agent/slam/particle_submaps.h"
 #include "robot_agent/slam/scan_matching_slam.h"
-#include "robot_agent/slam/thread_pool.h"
+#include "shared/core/thread_pool.h"
 
 namespace fleetmap {
 

@@ -37,6 +37,7 @@ struct Config {
   int whole_map_min_contradictions = MergeEngineOptions().whole_map_min_contradictions;
   double cross_retry_growth = MergeEngineOptions().cross_retry_growth;
   double edge_refine_window = MergeEngineOptions().edge_refine_window;
+  int search_threads = MergeEngineOptions().search_threads;
   bool verbose = false;
 };
 
@@ -105,6 +106,7 @@ int Run(const Config& c) {
   options.whole_map_min_contradictions = c.whole_map_min_contradictions;
   options.cross_retry_growth = c.cross_retry_growth;
   options.edge_refine_window = c.edge_refine_window;
+  options.search_threads = c.search_threads;
   MergeEngine engine(options);
   std::vector<bool> corrupted;
   int detections_total = 0, next_detection_step = 0;
@@ -297,6 +299,12 @@ int main(int argc, char** argv) {
   app.add_option("--edge-refine-window", c.edge_refine_window,
                  "each match edge refined again against its from-node's submap alone within this "
                  "many metres (MergeEngineOptions::edge_refine_window; 0: not refined)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--search-threads", c.search_threads,
+                 "threads for an update's searches that do not depend on each other; the "
+                 "results are the same for any count (MergeEngineOptions::search_threads; 0: one "
+                 "per core)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--outlier-fraction", c.outlier_fraction, "Fraction of corrupted detections")->check(CLI::Range(0.0, 1.0));

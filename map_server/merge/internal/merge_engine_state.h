@@ -3,6 +3,7 @@
 
 // The merge engine's private bookkeeping, shared by its implementation files (merge_engine*.cc).
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -14,6 +15,21 @@
 #include "map_server/merge/merge_engine.h"
 
 namespace fleetmap {
+
+inline Box2d Grow(Box2d box, double margin) {
+  box.min.array() -= margin;
+  box.max.array() += margin;
+  return box;
+}
+
+// A match's figures in an alignment event.
+inline void FillEvent(const MatchResult& r, AlignmentEvent* event) {
+  event->score = r.score;
+  event->ambiguity = r.ambiguity;
+  event->overlap = r.overlap;
+  event->residual = r.residual;
+  event->reason = r.reason;
+}
 
 struct MergeEngine::RobotState {
   explicit RobotState(double resolution) : canvas(resolution) {}
@@ -64,7 +80,33 @@ struct MergeEngine::Hypothesis {
 struct MergeEngine::CachedSubmapTarget {
   int64_t revision = 0;
   int64_t last_used = 0;
-  std::unique_ptr<MatchTarget> target;
+  // Shared, so that an edge being refined keeps its target while the cache drops it.
+  std::shared_ptr<const MatchTarget> target;
+};
+
+// One new submap searched for around its graph pose: against the other joined robots' maps
+// there (a local constraint) or against its own robot's older submaps (a loop closure). Planned
+// on the engine's thread; `make_target` and the match run on any of the search threads, and
+// read only what no one changes meanwhile (canvases, submaps, graph poses).
+struct MergeEngine::NearbySearch {
+  EdgeKind kind = EdgeKind::kCrossMatch;  // kCrossMatch: local constraint; kLoopClosure
+  NodeId submap;
+  std::optional<NodeId> from;  // loop closures: the nearest older submap, known before the search
+  std::function<std::unique_ptr<MatchTarget>()> make_target;
+  const MatchSource* source = nullptr;
+  SearchWindow window;
+  MatchResult result;  // filled by the search
+};
+
+// What refining a match edge against its from-node's submap needs (MergeEngine::MatchedEdge),
+// gathered on the engine's thread so that the refinement can run on any thread.
+struct MergeEngine::EdgeToRefine {
+  RelativeEdge edge;  // as the match against the composite map measured it
+  std::shared_ptr<const MatchTarget> from_target;  // null: kept as measured
+  const OccupancyGrid* from_grid = nullptr;
+  const MatchSource* from_walls = nullptr;
+  const MatchSource* to_source = nullptr;
+  Box2d to_box;
 };
 
 struct MergeEngine::CachedTarget {

@@ -1,4 +1,4 @@
-#include "robot_agent/slam/thread_pool.h"
+#include "shared/core/thread_pool.h"
 
 namespace fleetmap {
 

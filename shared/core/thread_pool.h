@@ -1,5 +1,5 @@
-#ifndef FLEETMAP_ROBOT_AGENT_SLAM_THREAD_POOL_H_
-#define FLEETMAP_ROBOT_AGENT_SLAM_THREAD_POOL_H_
+#ifndef FLEETMAP_SHARED_CORE_THREAD_POOL_H_
+#define FLEETMAP_SHARED_CORE_THREAD_POOL_H_
 
 #include <condition_variable>
 #include <cstddef>
@@ -12,8 +12,9 @@
 namespace fleetmap {
 
 // A fixed set of worker threads that runs one index-parallel loop at a time. The particle
-// filters hand it their per-particle work; which thread runs which index never affects the
-// result, because every index owns its own state and random stream.
+// filters hand it their per-particle work, the merge engine its independent map searches;
+// which thread runs which index never affects the result, because every index owns its own
+// state (and random stream) and writes only its own output.
 class ThreadPool {
  public:
   // `threads` <= 1 runs everything on the calling thread.
@@ -46,4 +47,4 @@ class ThreadPool {
 
 }  // namespace fleetmap
 
-#endif  // FLEETMAP_ROBOT_AGENT_SLAM_THREAD_POOL_H_
+#endif  // FLEETMAP_SHARED_CORE_THREAD_POOL_H_
