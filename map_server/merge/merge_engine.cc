@@ -28,6 +28,15 @@ double Displacement(const OccupancyGrid& grid, const Rigid2d& a, const Rigid2d& 
   return worst;
 }
 
+// MergeEngineOptions::search_threads, 0 resolved: one per core, but no more than an update's
+// nearby searches (a container may report every core of its host).
+int SearchThreads(const MergeEngineOptions& options) {
+  if (options.search_threads > 0) return options.search_threads;
+  const int most =
+      std::max(1, options.max_local_searches_per_update + options.max_loop_searches_per_update);
+  return std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, most);
+}
+
 }  // namespace
 
 const char* AlignmentEventTypeName(AlignmentEventType type) {
@@ -45,10 +54,7 @@ const char* AlignmentEventTypeName(AlignmentEventType type) {
 MergeEngine::MergeEngine(const MergeEngineOptions& options)
     : options_(options),
       graph_(options.graph),
-      search_pool_(std::make_unique<ThreadPool>(
-          options.search_threads > 0
-              ? options.search_threads
-              : std::max(1, static_cast<int>(std::thread::hardware_concurrency())))) {}
+      search_pool_(std::make_unique<ThreadPool>(SearchThreads(options))) {}
 MergeEngine::~MergeEngine() = default;
 
 MergeEngine::RobotState& MergeEngine::Robot(const std::string& id) {

@@ -149,7 +149,8 @@ struct MergeEngineOptions {
   // Threads for an Update()'s searches that do not depend on each other (the local constraints
   // and loop closures, then their edges' refinement), so that folding in a submap takes about
   // the longer of the two rather than their sum. The results are the same for any count
-  // (MergeEngineThreadsTest). 0: one per core.
+  // (MergeEngineThreadsTest). 0: one per core, at most max_local_searches_per_update +
+  // max_loop_searches_per_update.
   int search_threads = 0;
   bool local_constraints = true;  // match new submaps against other joined robots' maps
   // Loop closures within one robot's map: a new submap against the robot's own older submaps

@@ -39,6 +39,11 @@ int main(int argc, char** argv) {
                  "at least as many robots (0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--merge-threads", options.merge_engine.search_threads,
+                 "engine worker: threads for a merge update's searches that do not depend on "
+                 "each other; the merged map is the same for any count (0: one per core)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_flag("--fsync", options.fsync_every_commit,
                "fsync every commit (survives power loss; default survives process crashes)");
   app.add_option("--port-file", port_file, "write the port actually listened on to this file");
