@@ -6,6 +6,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "map_server/merge/log_odds_canvas.h"
@@ -284,6 +285,27 @@ class MergeEngine {
   void ProcessDetections(MergeUpdate* update);
   void ProcessDetection(size_t index, MergeUpdate* update, bool* keep_pending);
   void ProcessCrossMatches(MergeUpdate* update);
+  // merge_engine_cross_ahead.cc
+  // A submap searched over the whole map of another part: its points turned about their
+  // centroid (so that the window only has to cover the target map), the window over that map.
+  struct GlobalSearch {
+    MatchSource source;
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    SearchWindow window;
+  };
+  GlobalSearch PrepareGlobalSearch(const std::string& robot, int64_t submap,
+                                   const MatchTarget& target);
+  // The global searches ProcessCrossMatches is about to run, as they stand before it changes
+  // anything, run ahead side by side. Keyed by what a search depends on: the searched submap
+  // (robot, id) and the map searched (the part's root and CanvasStamp, the key the part's cached
+  // Target is built for). A join changes the stamp, so a search over the joined part's new map
+  // finds nothing here and runs again.
+  struct SearchedAhead {
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();  // GlobalSearch::centroid
+    MatchResult result;
+  };
+  using CrossKey = std::tuple<std::string, int64_t, std::string, std::string>;
+  std::map<CrossKey, SearchedAhead> SearchCrossMatchesAhead();
   // merge_engine_nearby.cc: local constraints and loop closures, searched side by side.
   void ProcessNearbyMatches(MergeUpdate* update);
   void PlanLocalConstraints(std::vector<NearbySearch>* searches);
@@ -321,6 +343,8 @@ class MergeEngine {
   // (submaps of the same robot) observed.
   bool MostlySeenBefore(const std::string& robot, int64_t id, const std::set<int64_t>& seen) const;
   int FinishedSubmaps(const std::string& root) const;
+  // The roots of the parts other than `robot`'s that hold a map.
+  std::set<std::string> OtherRoots(const std::string& robot) const;
   // Whether a submap is due a (new) global search over `root`'s map, given the roots it was
   // searched over and how many finished submaps each had then (cross_retry_growth).
   bool CrossSearchDue(const std::map<std::string, int>& tried, const std::string& root) const;

@@ -204,29 +204,30 @@ void MergeEngine::Accept(const Hypothesis& h, const std::vector<RelativeEdge>& e
 }
 
 void MergeEngine::ProcessCrossMatches(MergeUpdate* update) {
+  const std::map<CrossKey, SearchedAhead> ahead = SearchCrossMatchesAhead();
   int budget = options_.max_global_searches_per_update;
   for (auto& [robot_id, robot] : robots_) {
     for (int64_t id : std::vector<int64_t>(robot->cross_queue.begin(), robot->cross_queue.end())) {
       if (!graph_.HasNode({robot_id, id})) continue;
-      std::set<std::string> roots;
-      for (const auto& [other, state] : robots_) {
-        if (Root(other) != Root(robot_id) && !state->submaps.empty()) roots.insert(Root(other));
-      }
+      const std::set<std::string> roots = OtherRoots(robot_id);
       for (const std::string& root : roots) {
         if (Root(robot_id) == root || !CrossSearchDue(robot->cross_tried[id], root)) continue;
         if (budget-- <= 0) return;
         robot->cross_tried[id][root] = FinishedSubmaps(root);
         const MatchTarget& target = Target(root);
         if (target.empty()) continue;
-        // Rotate about the points' centroid so the window only has to cover the target map.
-        MatchSource source = SubmapSource(robot_id, id);
-        const Eigen::Vector2d c = Centroid(source.coarse);
-        TransformSource(Rigid2d(-c, 0.0), &source);
-        SearchWindow window;
-        window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
-        window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());
-        window.angular_half_extent = M_PI;
-        const MatchResult r = target.Match(source, window, options_.cross_gates);
+        // Searched ahead unless a join earlier in this loop changed the map searched.
+        const auto early = ahead.find({robot_id, id, root, CanvasStamp(root)});
+        MatchResult r;
+        Eigen::Vector2d c;
+        if (early != ahead.end()) {
+          r = early->second.result;
+          c = early->second.centroid;
+        } else {
+          const GlobalSearch search = PrepareGlobalSearch(robot_id, id, target);
+          r = target.Match(search.source, search.window, options_.cross_gates);
+          c = search.centroid;
+        }
         AlignmentEvent event;
         event.evidence = EvidenceKind::kCrossMatch;
         event.robot_b = robot_id;
@@ -263,6 +264,14 @@ void MergeEngine::ProcessCrossMatches(MergeUpdate* update) {
       }
     }
   }
+}
+
+std::set<std::string> MergeEngine::OtherRoots(const std::string& robot) const {
+  std::set<std::string> roots;
+  for (const auto& [other, state] : robots_) {
+    if (Root(other) != Root(robot) && !state->submaps.empty()) roots.insert(Root(other));
+  }
+  return roots;
 }
 
 int MergeEngine::FinishedSubmaps(const std::string& root) const {

@@ -1,9 +1,11 @@
-// An Update() runs its local constraint and loop closure searches, and then their edges'
-// refinement, side by side (MergeEngineOptions::search_threads). What goes into the graph, in
-// what order, and what the events say must not depend on how many threads ran them.
+// An Update() runs its global searches ahead, and its local constraint and loop closure searches
+// and then their edges' refinement, side by side (MergeEngineOptions::search_threads). What goes
+// into the graph, in what order, and what the events say must not depend on how many threads
+// ran them.
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
@@ -55,6 +57,44 @@ FleetRun Fleet(int threads) {
   return run;
 }
 
+// Three robots and no detections: every new submap is searched over the other parts' whole
+// maps (up to 4 per update), and joins happen between those searches.
+FleetRun Searching(int threads) {
+  MergeEngineOptions options;
+  options.search_threads = threads;
+  FleetRun run{std::make_unique<MergeEngine>(options), {}};
+  const testing::SegmentWorld world = testing::OfficeWorld();
+  SimRobot c = RobotB(2.0);
+  c.id = "c";
+  for (const SimRobot& robot : {RobotA(), RobotB(-1.0), c}) Feed(world, robot, run.engine.get());
+  for (int i = 0; i < 40 && (i == 0 || run.engine->HasPendingWork()); ++i) {
+    Record(run.engine->Update(), &run);
+  }
+  return run;
+}
+
+void ExpectSameRun(const FleetRun& one, const FleetRun& many) {
+  EXPECT_EQ(many.events, one.events);
+  const std::vector<RelativeEdge>& expected = one.engine->graph().edges();
+  const std::vector<RelativeEdge>& edges = many.engine->graph().edges();
+  ASSERT_EQ(edges.size(), expected.size());
+  for (size_t i = 0; i < edges.size(); ++i) {
+    SCOPED_TRACE("edge " + std::to_string(i));
+    EXPECT_TRUE(edges[i].from == expected[i].from);
+    EXPECT_TRUE(edges[i].to == expected[i].to);
+    EXPECT_EQ(edges[i].kind, expected[i].kind);
+    EXPECT_EQ(edges[i].to_in_from.translation(), expected[i].to_in_from.translation());
+    EXPECT_EQ(edges[i].to_in_from.rotation(), expected[i].to_in_from.rotation());
+  }
+  const auto expected_poses = one.engine->SubmapPoses();
+  const auto poses = many.engine->SubmapPoses();
+  ASSERT_EQ(poses.size(), expected_poses.size());
+  for (const auto& [id, pose] : expected_poses) {
+    EXPECT_EQ(poses.at(id).translation(), pose.translation()) << id.robot << "/" << id.submap;
+    EXPECT_EQ(poses.at(id).rotation(), pose.rotation()) << id.robot << "/" << id.submap;
+  }
+}
+
 TEST(MergeEngineThreadsTest, TheGraphDoesNotDependOnTheThreadCount) {
   const FleetRun one = Fleet(1);
   // The case must exercise both kinds of search, several per update.
@@ -69,26 +109,25 @@ TEST(MergeEngineThreadsTest, TheGraphDoesNotDependOnTheThreadCount) {
 
   for (int threads : {2, 3}) {
     SCOPED_TRACE(std::to_string(threads) + " threads");
-    const FleetRun many = Fleet(threads);
-    EXPECT_EQ(many.events, one.events);
-    const std::vector<RelativeEdge>& expected = one.engine->graph().edges();
-    const std::vector<RelativeEdge>& edges = many.engine->graph().edges();
-    ASSERT_EQ(edges.size(), expected.size());
-    for (size_t i = 0; i < edges.size(); ++i) {
-      SCOPED_TRACE("edge " + std::to_string(i));
-      EXPECT_TRUE(edges[i].from == expected[i].from);
-      EXPECT_TRUE(edges[i].to == expected[i].to);
-      EXPECT_EQ(edges[i].kind, expected[i].kind);
-      EXPECT_EQ(edges[i].to_in_from.translation(), expected[i].to_in_from.translation());
-      EXPECT_EQ(edges[i].to_in_from.rotation(), expected[i].to_in_from.rotation());
-    }
-    const auto expected_poses = one.engine->SubmapPoses();
-    const auto poses = many.engine->SubmapPoses();
-    ASSERT_EQ(poses.size(), expected_poses.size());
-    for (const auto& [id, pose] : expected_poses) {
-      EXPECT_EQ(poses.at(id).translation(), pose.translation()) << id.robot << "/" << id.submap;
-      EXPECT_EQ(poses.at(id).rotation(), pose.rotation()) << id.robot << "/" << id.submap;
-    }
+    ExpectSameRun(one, Fleet(threads));
+  }
+}
+
+TEST(MergeEngineThreadsTest, GlobalSearchesAndJoinsDoNotDependOnTheThreadCount) {
+  const FleetRun one = Searching(1);
+  for (const std::string& e : one.events) std::printf("EV %s\n", e.c_str());
+  // Both joins come from global searches, after searches the gates rejected.
+  int accepted = 0, rejected = 0;
+  for (const std::string& e : one.events) {
+    accepted += e.rfind("alignment accepted", 0) == 0;
+    rejected += e.rfind("rejected", 0) == 0;
+  }
+  EXPECT_EQ(accepted, 2);
+  EXPECT_GE(rejected, 1);
+  EXPECT_EQ(one.engine->PlacedRobots().size(), 3u);
+  for (int threads : {2, 3}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    ExpectSameRun(one, Searching(threads));
   }
 }
 
