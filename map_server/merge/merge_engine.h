@@ -11,6 +11,7 @@
 
 #include "map_server/merge/log_odds_canvas.h"
 #include "map_server/merge/match_target.h"
+#include "map_server/merge/merge_engine_options.h"
 #include "map_server/merge/merge_types.h"
 #include "map_server/merge/pose_graph.h"
 #include "shared/core/occupancy_grid.h"
@@ -19,182 +20,6 @@
 #include "shared/core/trajectory.h"
 
 namespace fleetmap {
-
-struct MergeEngineOptions {
-  MatchTargetOptions match;
-  // Detection + heading search: the window is small, so the score gate can be milder. The
-  // seen robot's map usually reaches past the observer's (a camera sees farther than the
-  // laser maps, and the robots come from different places): judged on the overlap.
-  MatchGates detection_gates{0.6, 0.85, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.4, 0.6, 60, true};
-  // Global search without any detection: strict, since nothing else constrains the answer.
-  MatchGates cross_gates{0.6, 0.8, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.5, 0.6, 100};
-  // Checking a predicted pose (second evidence, constraints between joined robots).
-  MatchGates verify_gates{0.5, 0.85, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.4, 0.5, 60};
-
-  // Detection search window: +- this many standard deviations, clamped (metres).
-  double detection_window_sigmas = 3.0;
-  double detection_window_min = 0.15;
-  double detection_window_max = 0.6;
-  double heading_window_min = 0.1;  // radians, with a measured relative heading
-  double source_time_window = 10.0;  // seconds: the seen robot's submaps used around a detection
-  double trajectory_max_gap = 2.0;   // seconds, for interpolating poses
-  // Detections waiting for poses beyond this many are dropped, oldest first (and reported).
-  size_t max_pending_detections = 10000;
-  // A detection whose search failed is tried again at most this many times, each time a
-  // finished submap of one of its robots within source_time_window of it arrives.
-  int max_detection_retries = 3;
-
-  // Two alignments agree when they place the other map within these.
-  double agreement_translation = 0.3;
-  double agreement_rotation = 0.05;
-  // Two detections of the same robot confirm each other only when it moved at least this far
-  // (in its own map) between them: its map turned about the detected position (end for end in a
-  // corridor) fits as well, and only its motion seen from outside tells the turns apart (a turn
-  // by a moves the second detected position by 2 sin(a / 2) times the distance).
-  double min_detection_baseline = 0.5;
-  // Without a measured relative heading, detections of the same robot within this many seconds
-  // whose positions lie at least the baseline apart along its path give its heading (sigma:
-  // position sigmas plus the floor, over the baseline); the search then covers +-3 sigma of the
-  // consensus instead of the full circle. 0 turns this off.
-  double motion_heading_window = 20.0;
-  double motion_heading_min_baseline = 1.0;
-  // A detection between joined robots is consistent when within this Mahalanobis distance,
-  // with this floor added to the detection's standard deviation (our poses are not exact).
-  double detection_gate = 4.0;
-  // A hypothesis (from matching or a detection) is refused when at least this many detections
-  // already received between the two parts contradict it (beyond detection_gate), and more
-  // contradict than agree.
-  int min_contradicting_detections = 2;
-  // An accepted alignment is withdrawn (the robot split off its component, to be placed again
-  // by evidence that agrees) when at least this many detections between it and the rest of its
-  // component contradict the joined map, and more than withdraw_majority times as many
-  // contradict as agree. Matching can join a robot before any detection of it arrives (a nearly
-  // symmetric building turned round); the detections that come later must be able to undo that.
-  // The majority must be clear: a robot that drifts has both kinds in large numbers (81 against
-  // 76 seen in the department with 10 % corrupted detections) and must stay joined. 0 turns
-  // withdrawals off.
-  int min_withdrawing_detections = 3;
-  double withdraw_majority = 1.5;
-  double detection_sigma_floor = 0.1;
-
-  // A join on matches alone (no detection among its evidence) is accepted only when nothing else
-  // explains the two parts' whole maps nearly as well: no distinct alignment of one whole map
-  // on the other (searched over every heading at whole_map_resolution) scores at least
-  // whole_map_ambiguity of the join's score, or lands at least whole_map_min_overlap times as
-  // many points as the join on what the other map observed and scores there at least
-  // whole_map_ambiguity of the join's score per overlapping point. The department is 98 %
-  // symmetric under a half turn, and two submaps that agree on the map turned round were seen
-  // joining robots 52 m off. 0 turns it off.
-  double whole_map_ambiguity = 0.85;
-  double whole_map_min_overlap = 0.5;
-  double whole_map_resolution = 0.2;
-  // Such an alternative is ruled out by the maps themselves when, placed there, either map's
-  // walls cross space the other map saw free (and away from its walls) at no fewer than
-  // whole_map_min_contradictions points of whole_map_resolution, and at least
-  // whole_map_contradiction_ratio times as many as at the join plus that minimum: a wall seen
-  // through is evidence, a similar score is not. The next best alternative is then examined, up
-  // to whole_map_max_refuted of them. Only alternatives scoring no more than the join are ruled
-  // out so: one that explains more of the maps keeps the join waiting whatever it crosses. In
-  // the department the corridors repeat every 6.2 m; such a shift of the true join crosses
-  // 70-160 walls, the true joins 0-5 (docs/BENCHMARKS.md, issue 8, session 21). Only a join
-  // whose own walls cross at most whole_map_max_join_contradictions points can rule anything
-  // out: a join turned half round there crossed 12, and ruling out its one-office shifts made a
-  // false merge. The same evidence judges the join itself: one that crosses
-  // whole_map_min_contradictions points or more waits, whatever else fits (the synthetic building
-  // with 4 submaps a robot: such joins crossed 51-82, the true ones 0-3; session 22).
-  // whole_map_min_contradictions 0 turns this off (every alternative scoring nearly as well keeps
-  // the join waiting, and a join is judged by scores alone).
-  int whole_map_min_contradictions = 30;
-  double whole_map_contradiction_ratio = 4.0;
-  int whole_map_max_join_contradictions = 6;
-  int whole_map_max_refuted = 8;
-  // Wall points are not counted as seen through when their blob of wall cells lies wholly within
-  // whole_map_body_radius (plus half a cell's diagonal) of where a robot of either part drove,
-  // at the alignment judged: that is the robot's body, mapped by another robot passing it
-  // (trail_walls.h). Without detections nothing masks them, and east_end joins crossed 14 such
-  // points, department_4robots' robot4 20-29 (session 23). 0 counts them.
-  double whole_map_body_radius = 0.35;
-  // Alternatives are examined best first, and one that is neither nearly as good nor as
-  // consistent does not end the search: one scoring less can still be as consistent where it
-  // overlaps (stopping there let a department join 33 m / 180 deg off through; session 22). At
-  // most whole_map_max_examined are examined, from one search that keeps its frontier
-  // (PeakSearch): 16 fresh searches over east_end's maps took 4.6 s, the frontier 0.34 s.
-  int whole_map_max_examined = 16;
-  // A submap match (no detection) is also confirmed by another submap of the same robot matching
-  // at the pose it predicts, when the whole-map check then finds nothing as good. Without this a
-  // second match had to pass the global search's gates too, and in the department's east end
-  // every other submap of a robot is ambiguous on its own (its corridors look alike turned
-  // round). The confirming submap must show other walls: at most verify_max_seen_before of its
-  // wall cells may lie where the matched submap saw (two submaps of one room agree on whichever
-  // like room the first matched: the synthetic building joined a robot 41 m off without this).
-  // A match kept as a hypothesis is checked again when either part's map has grown by
-  // review_min_new_submaps finished submaps, at most max_hypothesis_reviews_per_update per
-  // Update(): each costs a whole-map search.
-  bool verify_matches = true;
-  double verify_max_seen_before = 0.5;
-  int review_min_new_submaps = 1;
-  int max_hypothesis_reviews_per_update = 1;
-
-  // Work bounds per Update(): global searches are the expensive part.
-  int max_global_searches_per_update = 4;
-  // A submap not yet joined is searched over another component's map again once that map holds
-  // cross_retry_growth times as many finished submaps: the walls that place it may not have been
-  // mapped when it was first searched (a restarted server searched every stored submap over the
-  // maps of that moment, and left robot2 of the east_end e2e test waiting in 2 of 16 runs).
-  // Alone it made false joins (sessions 21, 22); with the join judged by its own walls and the
-  // whole-map check examining alternatives past the first that does not compare, the benches
-  // show none (docs/BENCHMARKS.md, issue 8, session 23). 0: each submap is searched once per
-  // component.
-  double cross_retry_growth = 2.0;
-  int max_local_searches_per_update = 8;
-  // Threads for an Update()'s searches that do not depend on each other (the local constraints
-  // and loop closures, then their edges' refinement), so that folding in a submap takes about
-  // the longer of the two rather than their sum. The results are the same for any count
-  // (MergeEngineThreadsTest). 0: one per core, at most max_local_searches_per_update +
-  // max_loop_searches_per_update.
-  int search_threads = 0;
-  bool local_constraints = true;  // match new submaps against other joined robots' maps
-  // Loop closures within one robot's map: a new submap against the robot's own older submaps
-  // (at least this many ids back) around its current pose.
-  bool loop_closures = true;
-  int loop_min_id_gap = 3;
-  int loop_max_submaps = 6;  // the nearest older submaps form the target
-  int max_loop_searches_per_update = 2;
-  Eigen::Vector2d local_window{0.4, 0.4};
-  double local_angular_window = 0.1;
-
-  // Graph edges: local SLAM between consecutive submaps, and matches/detections across robots.
-  // Consecutive submaps: stiff, local SLAM's relation is kept. The sigmas can grow with the
-  // distance between the anchors (local SLAM drifts with the distance driven); in
-  // fleetmap-merge-sim-bench 0.005 / 0.0005 per metre raised department_3robots' map from 66 to
-  // 85 % on true walls, but through the real agents (camera detections) the e2e map fell from
-  // 66-76 % to 45-67 %: detections then bend the maps. See docs/BENCHMARKS.md.
-  double odometry_translation_sigma = 0.01;
-  double odometry_rotation_sigma = 0.001;
-  double odometry_translation_sigma_per_metre = 0.0;
-  double odometry_rotation_sigma_per_metre = 0.0;
-  double match_translation_sigma = 0.02;
-  double match_rotation_sigma = 0.002;
-  double robust_scale = 2.0;  // Cauchy scale, in sigmas, for inter-robot edges
-  double odometry_robust_scale = 0.0;  // the same for consecutive-submap edges (0: none)
-  // A match found against a part's composite map becomes an edge from one node of that part;
-  // refined again against that node's submap alone (moving at most this far), the edge measures
-  // the two submaps rather than the composite as the graph placed it at that moment
-  // (department_3robots' edges 4.7 -> 3.6 cm, 0.13 -> 0.10 deg off the truth on average;
-  // docs/BENCHMARKS.md, issue 8, session 25). 0: not refined.
-  double edge_refine_window = 0.1;
-  double edge_refine_angular_window = 0.01;
-  // Along a direction that fewer of the refining submap's wall normals face (scatter
-  // eigenvalue; the agents' local SLAM uses the same figure), the composite's translation stays.
-  double edge_min_observed_normals = 0.03;
-  PoseGraphOptions graph;
-
-  // The incrementally kept global map.
-  double render_resolution = 0.05;
-  OccupancyGridOptions render_grid;
-  double rerender_threshold = 0.25;   // cells: a submap that moved less keeps its rendering
-  int64_t max_render_cells = 64 << 20;  // refuse renders larger than this
-};
 
 class ThreadPool;
 
@@ -253,6 +78,8 @@ class MergeEngine {
   struct CachedSubmapTarget;
   struct NearbySearch;
   struct EdgeToRefine;
+  struct GlobalSearch;
+  struct SearchedAhead;
   struct TimedPose {
     int64_t host_submap;
     Rigid2d robot_in_node;
@@ -286,13 +113,6 @@ class MergeEngine {
   void ProcessDetection(size_t index, MergeUpdate* update, bool* keep_pending);
   void ProcessCrossMatches(MergeUpdate* update);
   // merge_engine_cross_ahead.cc
-  // A submap searched over the whole map of another part: its points turned about their
-  // centroid (so that the window only has to cover the target map), the window over that map.
-  struct GlobalSearch {
-    MatchSource source;
-    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-    SearchWindow window;
-  };
   GlobalSearch PrepareGlobalSearch(const std::string& robot, int64_t submap,
                                    const MatchTarget& target);
   // The global searches ProcessCrossMatches is about to run, as they stand before it changes
@@ -300,10 +120,6 @@ class MergeEngine {
   // (robot, id) and the map searched (the part's root and CanvasStamp, the key the part's cached
   // Target is built for). A join changes the stamp, so a search over the joined part's new map
   // finds nothing here and runs again.
-  struct SearchedAhead {
-    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();  // GlobalSearch::centroid
-    MatchResult result;
-  };
   using CrossKey = std::tuple<std::string, int64_t, std::string, std::string>;
   std::map<CrossKey, SearchedAhead> SearchCrossMatchesAhead();
   // merge_engine_nearby.cc: local constraints and loop closures, searched side by side.

@@ -114,6 +114,20 @@ struct MergeEngine::CachedTarget {
   std::unique_ptr<MatchTarget> target;
 };
 
+// A submap searched over the whole map of another part: its points turned about their
+// centroid (so that the window only has to cover the target map), the window over that map.
+struct MergeEngine::GlobalSearch {
+  MatchSource source;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  SearchWindow window;
+};
+
+// A global search run ahead (MergeEngine::SearchCrossMatchesAhead).
+struct MergeEngine::SearchedAhead {
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();  // GlobalSearch::centroid
+  MatchResult result;
+};
+
 }  // namespace fleetmap
 
 #endif  // FLEETMAP_MAP_SERVER_MERGE_INTERNAL_MERGE_ENGINE_STATE_H_
