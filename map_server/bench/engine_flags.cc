@@ -37,7 +37,8 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
   app->add_option("--search-threads", options->search_threads,
                   "merge engine: threads for an update's searches that do not depend on each "
                   "other; the results are the same for any count "
-                  "(MergeEngineOptions::search_threads; 0: one per core)")
+                  "(MergeEngineOptions::search_threads; 0: one per core, at most an "
+                  "update's nearby searches)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app->add_option("--odometry-robust-scale", options->odometry_robust_scale,

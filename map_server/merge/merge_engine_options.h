@@ -142,10 +142,10 @@ struct MergeEngineOptions {
   double cross_retry_growth = 2.0;
   int max_local_searches_per_update = 8;
   // Threads for an Update()'s searches that do not depend on each other (the local constraints
-  // and loop closures, then their edges' refinement), so that folding in a submap takes about
-  // the longer of the two rather than their sum. The results are the same for any count
-  // (MergeEngineThreadsTest). 0: one per core, at most max_local_searches_per_update +
-  // max_loop_searches_per_update.
+  // and loop closures, then their edges' refinement; the global searches, run ahead), so that
+  // folding in a submap takes about the longer of the two nearby searches rather than their sum.
+  // The results are the same for any count (MergeEngineThreadsTest). 0: one per core, at most
+  // max_local_searches_per_update + max_loop_searches_per_update.
   int search_threads = 0;
   bool local_constraints = true;  // match new submaps against other joined robots' maps
   // Loop closures within one robot's map: a new submap against the robot's own older submaps

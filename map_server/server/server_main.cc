@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--merge-threads", options.merge_engine.search_threads,
                  "engine worker: threads for a merge update's searches that do not depend on "
-                 "each other; the merged map is the same for any count (0: one per core)")
+                 "each other; the merged map is the same for any count (0: one per core, at "
+                 "most an update's nearby searches)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_flag("--fsync", options.fsync_every_commit,

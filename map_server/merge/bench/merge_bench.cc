@@ -304,7 +304,7 @@ int main(int argc, char** argv) {
   app.add_option("--search-threads", c.search_threads,
                  "threads for an update's searches that do not depend on each other; the "
                  "results are the same for any count (MergeEngineOptions::search_threads; 0: one "
-                 "per core)")
+                 "per core, at most an update's nearby searches)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--outlier-fraction", c.outlier_fraction, "Fraction of corrupted detections")->check(CLI::Range(0.0, 1.0));
