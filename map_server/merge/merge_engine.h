@@ -69,6 +69,9 @@ class MergeEngine {
   MergeQuality Quality(const std::optional<Box2d>& region = std::nullopt) const;
 
   const PoseGraph& graph() const { return graph_; }
+  // Global searches run when their turn came rather than ahead: all of them without
+  // search_ahead, else those over a part a join earlier in the same update had changed.
+  int64_t global_searches_in_turn() const { return global_searches_in_turn_; }
   const std::vector<RobotDetection>& detections() const { return detections_; }
 
  private:
@@ -222,6 +225,7 @@ class MergeEngine {
   // one target per submap of a 400-submap graph would hold 450 MB.
   std::map<NodeId, CachedSubmapTarget> submap_targets_;
   int64_t submap_target_uses_ = 0;
+  int64_t global_searches_in_turn_ = 0;
   struct CachedAmbiguity {
     std::string stamp;
     Rigid2d b_in_a;

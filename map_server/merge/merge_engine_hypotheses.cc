@@ -204,7 +204,8 @@ void MergeEngine::Accept(const Hypothesis& h, const std::vector<RelativeEdge>& e
 }
 
 void MergeEngine::ProcessCrossMatches(MergeUpdate* update) {
-  const std::map<CrossKey, SearchedAhead> ahead = SearchCrossMatchesAhead();
+  const std::map<CrossKey, SearchedAhead> ahead =
+      options_.search_ahead ? SearchCrossMatchesAhead() : std::map<CrossKey, SearchedAhead>();
   int budget = options_.max_global_searches_per_update;
   for (auto& [robot_id, robot] : robots_) {
     for (int64_t id : std::vector<int64_t>(robot->cross_queue.begin(), robot->cross_queue.end())) {
@@ -227,6 +228,7 @@ void MergeEngine::ProcessCrossMatches(MergeUpdate* update) {
           const GlobalSearch search = PrepareGlobalSearch(robot_id, id, target);
           r = target.Match(search.source, search.window, options_.cross_gates);
           c = search.centroid;
+          ++global_searches_in_turn_;
         }
         AlignmentEvent event;
         event.evidence = EvidenceKind::kCrossMatch;

@@ -147,6 +147,10 @@ struct MergeEngineOptions {
   // The results are the same for any count (MergeEngineThreadsTest). 0: one per core, at most
   // max_local_searches_per_update + max_loop_searches_per_update.
   int search_threads = 0;
+  // The global searches of an update run ahead, side by side, before the loop that judges them
+  // (SearchCrossMatchesAhead). Off, each runs when its turn comes; the answers are the same
+  // either way (MergeEngineThreadsTest compares the two).
+  bool search_ahead = true;
   bool local_constraints = true;  // match new submaps against other joined robots' maps
   // Loop closures within one robot's map: a new submap against the robot's own older submaps
   // (at least this many ids back) around its current pose.
