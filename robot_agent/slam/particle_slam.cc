@@ -25,10 +25,6 @@ ScanMatchingSlamOptions ParticleSlamOptions::DefaultTracker() {
   ScanMatchingSlamOptions options;
   options.build_submaps = false;
   options.loop_closure.enabled = false;
-  // The particle filters' figures (issue 5) were measured with the tracker's earlier 7.5 cm; the
-  // scan-matching backend's 3 cm (session 28) changed single runs both ways and was not
-  // measured over their seed sets, so they keep it.
-  options.max_unseen_surface_distance = 0.075;
   return options;
 }
 
