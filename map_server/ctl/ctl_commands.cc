@@ -78,8 +78,11 @@ void PrintVersion(std::ostream& out, const v1::VersionInfo& v, bool detailed) {
   out << "\n  placements:\n";
   for (const v1::RobotPlacement& r : v.placements()) {
     out << "    " << r.robot_id() << ": "
-        << (r.placed() ? FormatPose(r.local_in_global()) : std::string("unplaced")) << " ["
-        << r.source() << "]" << (r.note().empty() ? "" : " " + r.note()) << "\n";
+        << (r.placed() ? FormatPose(r.local_in_global()) : std::string("unplaced"))
+        << (r.placed() && r.has_start_in_global()
+                ? ", started at " + FormatPose(r.start_in_global())
+                : "")
+        << " [" << r.source() << "]" << (r.note().empty() ? "" : " " + r.note()) << "\n";
   }
   out << "  new submaps:";
   for (const auto& s : p.new_submaps()) {

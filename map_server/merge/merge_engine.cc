@@ -193,6 +193,16 @@ std::optional<Rigid2d> MergeEngine::RobotToGlobal(const std::string& robot) cons
   return LocalToFrame(robot);
 }
 
+std::optional<Rigid2d> MergeEngine::RobotStartToGlobal(const std::string& robot) const {
+  const auto it = robots_.find(robot);
+  if (!IsPlaced(robot) || it == robots_.end()) return std::nullopt;
+  for (const auto& [id, submap] : it->second->submaps) {
+    if (const auto node = graph_.NodePose({robot, id}))
+      return *node * submap.submap_in_local.inverse();
+  }
+  return std::nullopt;
+}
+
 std::vector<std::string> MergeEngine::PlacedRobots() const {
   std::vector<std::string> placed;
   for (const auto& [robot, state] : robots_) {

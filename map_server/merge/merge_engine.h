@@ -55,8 +55,12 @@ class MergeEngine {
   bool HasPendingWork() const;
 
   // The robot's local map frame in the global frame; nothing while the robot is unplaced.
-  // The first robot to send a submap defines the global frame.
+  // The first robot to send a submap defines the global frame. The frame is the one the robot's
+  // newest submap implies: it places the robot's latest poses, and differs from where the robot
+  // started by the local SLAM drift since.
   std::optional<Rigid2d> RobotToGlobal(const std::string& robot) const;
+  // The robot's local map frame as its first submap places it: where the robot started.
+  std::optional<Rigid2d> RobotStartToGlobal(const std::string& robot) const;
   // Global poses of every placed submap.
   std::map<NodeId, Rigid2d> SubmapPoses() const;
   std::vector<std::string> PlacedRobots() const;

@@ -152,6 +152,9 @@ void ToProto(const RobotPlacementRecord& placement, v1::RobotPlacement* out) {
   out->set_robot_id(placement.robot_id);
   out->set_placed(placement.placed);
   if (placement.placed) *out->mutable_local_in_global() = ToProto(placement.local_in_global);
+  if (placement.placed && placement.start_in_global) {
+    *out->mutable_start_in_global() = ToProto(*placement.start_in_global);
+  }
   out->set_source(placement.source);
   out->set_note(placement.note);
 }

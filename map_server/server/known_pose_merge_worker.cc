@@ -189,6 +189,7 @@ void KnownPoseMergeWorker::RefreshPlacements() {
     p.placed = robot.local_in_global.has_value();
     if (p.placed) {
       p.local_in_global = *robot.local_in_global;
+      p.start_in_global = *robot.local_in_global;  // held there: no drift to follow
       p.source = "registration";
     } else {
       p.source = "unplaced";

@@ -83,6 +83,7 @@ std::vector<RobotPlacementRecord> MakePlacements(
     if (const std::optional<Rigid2d> local_in_global = engine.RobotToGlobal(id)) {
       p.placed = true;
       p.local_in_global = *local_in_global;
+      p.start_in_global = engine.RobotStartToGlobal(id);
       if (robot.local_in_global) {
         p.source = "registration";
       } else if (id == engine.reference_robot()) {

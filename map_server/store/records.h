@@ -65,6 +65,10 @@ struct RobotPlacementRecord {
   std::string robot_id;
   bool placed = false;
   Rigid2d local_in_global;
+  // Where the robot's local frame sits as its first submap places it: where the robot started.
+  // local_in_global follows the newest submap, so it also carries the local SLAM drift since.
+  // Only when placed; absent in versions stored before it was recorded (schema version 1).
+  std::optional<Rigid2d> start_in_global;
   std::string source;  // "registration", "unplaced", later "detection", "matching"
   std::string note;
 };

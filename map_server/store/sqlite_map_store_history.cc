@@ -167,10 +167,14 @@ int64_t SqliteMapStore::PutVersion(const VersionRecord& v, const EncodedGrid& gr
     if (!RunOrFail(&s, error)) return 0;
   }
   for (const RobotPlacementRecord& p : v.placements) {
-    SqliteStatement s(db_, "INSERT INTO alignments VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+    SqliteStatement s(db_, "INSERT INTO alignments VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
     s.Bind(1, version).Bind(2, p.robot_id).Bind(3, static_cast<int64_t>(p.placed));
     s.Bind(4, p.local_in_global.x()).Bind(5, p.local_in_global.y());
     s.Bind(6, p.local_in_global.rotation()).Bind(7, p.source).Bind(8, p.note);
+    if (p.start_in_global) {
+      s.Bind(9, p.start_in_global->x()).Bind(10, p.start_in_global->y());
+      s.Bind(11, p.start_in_global->rotation());
+    }
     if (!RunOrFail(&s, error)) return 0;
   }
   if (options_.retention.keep_version_grids > 0) {
@@ -205,9 +209,11 @@ void SqliteMapStore::LoadProvenance(VersionRecord* v) {
   SqliteStatement quality(db_, "SELECT name, value FROM version_quality WHERE version = ?");
   quality.Bind(1, v->version);
   while (quality.Step()) v->quality[quality.Text(0)] = quality.Double(1);
-  SqliteStatement placements(db_,
-                             "SELECT robot_id, placed, x, y, theta, source, note FROM alignments "
-                             "WHERE version = ? ORDER BY robot_id");
+  SqliteStatement placements(
+      db_,
+      "SELECT robot_id, placed, x, y, theta, source, note, start_x, start_y, "
+      "start_theta FROM alignments "
+      "WHERE version = ? ORDER BY robot_id");
   placements.Bind(1, v->version);
   while (placements.Step()) {
     RobotPlacementRecord p;
@@ -216,6 +222,9 @@ void SqliteMapStore::LoadProvenance(VersionRecord* v) {
     p.local_in_global = Rigid2d(placements.Double(2), placements.Double(3), placements.Double(4));
     p.source = placements.Text(5);
     p.note = placements.Text(6);
+    if (!placements.IsNull(7) && !placements.IsNull(8) && !placements.IsNull(9)) {
+      p.start_in_global = Rigid2d(placements.Double(7), placements.Double(8), placements.Double(9));
+    }
     v->placements.push_back(std::move(p));
   }
 }

@@ -68,6 +68,12 @@ CREATE TABLE alignments (
   note TEXT NOT NULL);
 CREATE INDEX alignments_by_version ON alignments (version);
 )sql",
+      // 1 -> 2: where each robot's first submap places its local frame (NULL: not recorded).
+      R"sql(
+ALTER TABLE alignments ADD COLUMN start_x REAL;
+ALTER TABLE alignments ADD COLUMN start_y REAL;
+ALTER TABLE alignments ADD COLUMN start_theta REAL;
+)sql",
   };
   return migrations;
 }

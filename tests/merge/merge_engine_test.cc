@@ -1,8 +1,9 @@
 #include "map_server/merge/merge_engine.h"
 
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
 
 #include "tests/merge/merge_engine_fixtures.h"
 #include "tests/merge/merge_test_worlds.h"
@@ -252,6 +253,17 @@ TEST(MergeEngineTest, LoopClosureCorrectsDrift) {
   const auto poses = engine.SubmapPoses();
   const Rigid2d rel = poses.at({"a", 0}).inverse() * poses.at({"a", submaps.back().submap_id});
   EXPECT_LT((true_rel.inverse() * rel).translation().norm(), 0.3 * drift);
+  // The robot's start stays where its first submap holds the global frame; the frame its newest
+  // submap implies moved with the correction (0.087 m here).
+  const auto start = engine.RobotStartToGlobal("a"), newest = engine.RobotToGlobal("a");
+  ASSERT_TRUE(start && newest);
+  EXPECT_THAT(*start, IsNearPose(Rigid2d(), 1e-9, 1e-9));
+  EXPECT_THAT(*newest, IsNearPose(poses.at({"a", submaps.back().submap_id}) *
+                                      submaps.back().submap_in_local.inverse(),
+                                  1e-9, 1e-9));
+  const double moved = (start->inverse() * *newest).translation().norm();
+  std::printf("drift %.3f m, newest submap's frame %.3f m from the start's\n", drift, moved);
+  EXPECT_GT(moved, 0.25 * drift);
 }
 
 // A robot with nothing linking it to the others stays unplaced.

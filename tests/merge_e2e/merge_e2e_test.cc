@@ -3,7 +3,11 @@
 // poses and no detections; the server's merge engine must place every robot. The robots'
 // relative transforms are checked against the simulator's truth and the merged map against
 // the world. A second case kills the server (SIGKILL) mid-run and restarts it.
+#include <gmock/gmock.h>
+#include <grpcpp/grpcpp.h>
+#include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/wait.h>
 
 #include <chrono>
 #include <cmath>
@@ -14,12 +18,8 @@
 #include <sstream>
 #include <thread>
 
-#include <gmock/gmock.h>
-#include <grpcpp/grpcpp.h>
-#include <gtest/gtest.h>
-
-#include "proto/fleetmap/v1/fleetmap.grpc.pb.h"
 #include "map_server/server/conversions.h"
+#include "proto/fleetmap/v1/fleetmap.grpc.pb.h"
 #include "robot_agent/sim/map_accuracy.h"
 #include "robot_agent/sim/simulation.h"
 #include "shared/codec/grid_codec.h"
@@ -158,11 +158,13 @@ class MergeE2eTest : public ::testing::Test {
   }
 
   // Relative transforms against the truth (each robot's local frame is its odometry frame, the
-  // identity at its true start pose) and the merged map against the world.
+  // identity at its true start pose; the server places it where the robot's first submap puts
+  // it) and the merged map against the world.
   void CheckMerge(const v1::GetRobotsResponse& robots) {
     std::map<std::string, Rigid2d> local_in_global;
     for (const auto& r : robots.robots()) {
-      local_in_global[r.robot_id()] = FromProto(r.placement().local_in_global());
+      ASSERT_TRUE(r.placement().has_start_in_global()) << r.DebugString();
+      local_in_global[r.robot_id()] = FromProto(r.placement().start_in_global());
     }
     const std::vector<Rigid2d> starts = simulation_->TruePoses();
     ASSERT_EQ(starts.size(), 3u);
@@ -199,6 +201,60 @@ class MergeE2eTest : public ::testing::Test {
                 static_cast<long long>(score.occupied), 100.0 * accuracy);
     EXPECT_GE(accuracy, Bounds().min_map_accuracy);
     PrintAlignments();
+    CheckCtlEvaluate(robots, local_in_global, starts);
+  }
+
+  // fleetmapctl evaluate, which scores the demo, reads the same relative transforms from the
+  // server. The server may publish a newer version meanwhile (its settled rebuild): then the
+  // transforms are read again.
+  void CheckCtlEvaluate(v1::GetRobotsResponse robots,
+                        std::map<std::string, Rigid2d> start_in_global,
+                        const std::vector<Rigid2d>& starts) {
+    const std::string manifest = dir_ + "/truth.yaml";
+    {
+      std::ofstream out(manifest);
+      out.precision(17);
+      out << "robots:\n";
+      for (int i = 0; i < 3; ++i) {
+        out << "  - name: " << kRobots[i] << "\n    start: {x: " << starts[i].x()
+            << ", y: " << starts[i].y() << ", theta: " << starts[i].rotation() << "}\n";
+      }
+    }
+    const std::string command =
+        build_ + "/map_server/ctl/fleetmapctl --server 127.0.0.1:" + std::to_string(port_) +
+        " --json evaluate --ground-truth " + manifest + " 2>&1";
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      std::string output;
+      FILE* pipe = popen(command.c_str(), "r");
+      ASSERT_NE(pipe, nullptr);
+      char buffer[4096];
+      for (size_t n; (n = fread(buffer, 1, sizeof(buffer), pipe)) > 0;) output.append(buffer, n);
+      const int status = pclose(pipe);
+      ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+      grpc::ClientContext context;
+      v1::GetRobotsResponse after;
+      ASSERT_TRUE(stub_->GetRobots(&context, v1::GetRobotsRequest(), &after).ok());
+      if (after.latest_version() != robots.latest_version()) {
+        robots = after;
+        for (const auto& r : robots.robots()) {
+          start_in_global[r.robot_id()] = FromProto(r.placement().start_in_global());
+        }
+        continue;
+      }
+      for (int b = 1; b < 3; ++b) {
+        const Rigid2d diff =
+            (starts[0].inverse() * starts[b]).inverse() *
+            (start_in_global.at(kRobots[0]).inverse() * start_in_global.at(kRobots[b]));
+        const std::string key =
+            std::string("\"robot\": \"") + kRobots[b] + "\", \"translation_error_m\": ";
+        const size_t at = output.find(key);
+        ASSERT_NE(at, std::string::npos) << output;
+        EXPECT_NEAR(std::stod(output.substr(at + key.size())), diff.translation().norm(), 1e-3)
+            << output;
+      }
+      return;
+    }
+    FAIL() << "the server kept publishing new versions";
   }
 
   // Every agent exits 0 (its outbox drained), then the server places every robot.

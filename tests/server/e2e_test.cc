@@ -69,6 +69,8 @@ TEST(ServerProcessTest, CtlCommandsAgainstARunningServer) {
   EXPECT_NE(out.find("\"versions\""), std::string::npos) << out;
   EXPECT_EQ(RunCtl(ctl + "show " + std::to_string(first.version()), &out), 0) << out;
   EXPECT_NE(out.find("placements"), std::string::npos) << out;
+  EXPECT_NE(out.find("), started at ("), std::string::npos)
+      << out;  // alpha, placed at registration
   EXPECT_EQ(RunCtl(ctl + "--json diff " + std::to_string(first.version()) + " " +
                        std::to_string(first.version() + 1) + " --out " + dir + "/diff.png",
                    &out),

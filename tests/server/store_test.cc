@@ -114,7 +114,9 @@ TEST_P(StoreTest, VersionsKeepProvenanceAndRetention) {
     v.trigger_robot_ids = {"r1"};
     v.new_submaps = {SubmapKey{"r1", i, 0}};
     v.quality["robots_placed"] = 1;
-    v.placements = {RobotPlacementRecord{"r1", true, Rigid2d(1, 2, 0), "registration", ""}};
+    v.placements = {
+        RobotPlacementRecord{"r1", true, Rigid2d(1, 2, 0), std::nullopt, "registration", ""}};
+    if (i == 2) v.placements[0].start_in_global = Rigid2d(0.5, 2, 0.1);
     EXPECT_EQ(store_->PutVersion(v, Compress(grid), &error), i) << error;
   }
   EXPECT_EQ(store_->LatestVersion()->version, 3);
@@ -125,6 +127,10 @@ TEST_P(StoreTest, VersionsKeepProvenanceAndRetention) {
   ASSERT_EQ(v2->new_submaps.size(), 1u);
   EXPECT_EQ(v2->new_submaps[0].submap_id, 2);
   EXPECT_EQ(v2->placements.at(0).source, "registration");
+  ASSERT_TRUE(v2->placements.at(0).start_in_global);
+  EXPECT_THAT(*v2->placements.at(0).start_in_global,
+              testing::IsNearPose(Rigid2d(0.5, 2, 0.1), 1e-12, 1e-12));
+  EXPECT_FALSE(store_->GetVersion(3)->placements.at(0).start_in_global);
   EXPECT_DOUBLE_EQ(v2->quality.at("robots_placed"), 1.0);
   // keep_version_grids = 2: version 1 keeps its metadata but not its grid.
   EXPECT_FALSE(store_->GetVersionGrid(1));
@@ -151,6 +157,51 @@ TEST(SqliteStoreTest, RefusesDatabaseFromNewerSchema) {
   sqlite3_close(db);
   EXPECT_FALSE(SqliteMapStore::Open(options, &error));
   EXPECT_NE(error.find("newer"), std::string::npos) << error;
+}
+
+// A database written before schema version 2 (no start_in_global column) opens, migrates, and
+// keeps its versions; their placements then have no start.
+TEST(SqliteStoreTest, MigratesVersionOneAlignments) {
+  const testing::ScopedTempDir temp("store_migrate");
+  SqliteMapStoreOptions options;
+  options.path = temp.path() + "/map.db";
+  std::string error;
+  VersionRecord v;
+  v.created_unix_time = 100.0;
+  v.trigger = "submaps";
+  v.placements = {
+      RobotPlacementRecord{"r1", true, Rigid2d(1, 2, 0.3), Rigid2d(1, 2.5, 0.2), "reference", ""}};
+  QuantizedGrid grid;
+  grid.geometry.width = 2;
+  grid.geometry.height = 1;
+  grid.cells = {5, -5};
+  {
+    auto store = SqliteMapStore::Open(options, &error);
+    ASSERT_TRUE(store) << error;
+    ASSERT_EQ(store->PutVersion(v, Compress(grid), &error), 1) << error;
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(options.path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(
+      sqlite3_exec(db,
+                   "ALTER TABLE alignments DROP COLUMN start_x; ALTER TABLE alignments DROP COLUMN "
+                   "start_y; ALTER TABLE alignments DROP COLUMN start_theta; UPDATE schema_version "
+                   "SET version = 1",
+                   nullptr, nullptr, nullptr),
+      SQLITE_OK);
+  sqlite3_close(db);
+  auto store = SqliteMapStore::Open(options, &error);
+  ASSERT_TRUE(store) << error;
+  const auto old = store->GetVersion(1);
+  ASSERT_TRUE(old);
+  ASSERT_EQ(old->placements.size(), 1u);
+  EXPECT_THAT(old->placements[0].local_in_global,
+              testing::IsNearPose(Rigid2d(1, 2, 0.3), 1e-12, 1e-12));
+  EXPECT_FALSE(old->placements[0].start_in_global);
+  ASSERT_EQ(store->PutVersion(v, Compress(grid), &error), 2) << error;
+  ASSERT_TRUE(store->GetVersion(2)->placements.at(0).start_in_global);
+  EXPECT_THAT(*store->GetVersion(2)->placements.at(0).start_in_global,
+              testing::IsNearPose(Rigid2d(1, 2.5, 0.2), 1e-12, 1e-12));
 }
 
 TEST(SqliteStoreTest, DataSurvivesReopen) {
