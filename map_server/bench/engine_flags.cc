@@ -16,6 +16,12 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                   "no check)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  app->add_option("--whole-map-min-overlap", options->whole_map_min_overlap,
+                  "merge engine: an alternative alignment of the whole maps that scores less also "
+                  "keeps a join on matches alone waiting when it lands this share of the join's "
+                  "overlap and is as consistent there (MergeEngineOptions::whole_map_min_overlap)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   app->add_option("--whole-map-min-contradictions", options->whole_map_min_contradictions,
                   "merge engine: an alternative alignment of the whole maps stops blocking a join "
                   "when their walls cross seen-free space there at this many points plus 4 times "
