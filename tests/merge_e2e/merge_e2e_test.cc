@@ -7,7 +7,6 @@
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 #include <signal.h>
-#include <sys/wait.h>
 
 #include <chrono>
 #include <cmath>
@@ -24,6 +23,7 @@
 #include "robot_agent/sim/simulation.h"
 #include "shared/codec/grid_codec.h"
 #include "tests/merge_e2e/merge_e2e_process.h"
+#include "tests/server/process_util.h"
 #include "tests/support/test_support.h"
 
 namespace fleetmap {
@@ -220,17 +220,11 @@ class MergeE2eTest : public ::testing::Test {
             << ", y: " << starts[i].y() << ", theta: " << starts[i].rotation() << "}\n";
       }
     }
-    const std::string command =
-        build_ + "/map_server/ctl/fleetmapctl --server 127.0.0.1:" + std::to_string(port_) +
-        " --json evaluate --ground-truth " + manifest + " 2>&1";
+    const std::string args = "--server 127.0.0.1:" + std::to_string(port_) +
+                             " --json evaluate --ground-truth " + manifest;
     for (int attempt = 0; attempt < 3; ++attempt) {
       std::string output;
-      FILE* pipe = popen(command.c_str(), "r");
-      ASSERT_NE(pipe, nullptr);
-      char buffer[4096];
-      for (size_t n; (n = fread(buffer, 1, sizeof(buffer), pipe)) > 0;) output.append(buffer, n);
-      const int status = pclose(pipe);
-      ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+      ASSERT_EQ(testing::RunCtl(args, &output), 0) << output;
       grpc::ClientContext context;
       v1::GetRobotsResponse after;
       ASSERT_TRUE(stub_->GetRobots(&context, v1::GetRobotsRequest(), &after).ok());
