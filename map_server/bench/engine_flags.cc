@@ -29,6 +29,16 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                   "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_option("--whole-map-max-examined", options->whole_map_max_examined,
+                  "merge engine: most alternative alignments of the whole maps examined for one "
+                  "join, best scoring first (MergeEngineOptions::whole_map_max_examined)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option("--whole-map-max-refuted", options->whole_map_max_refuted,
+                  "merge engine: most alternatives the walls may rule out for one join before it "
+                  "waits (MergeEngineOptions::whole_map_max_refuted)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app->add_option("--max-pull-distance", options->match.refine.max_pull_distance,
                   "merge engine: metres; in a match's refinement, points farther than this from "
                   "a wall do not pull (PoseRefinerOptions::max_pull_distance; 0: no limit)")

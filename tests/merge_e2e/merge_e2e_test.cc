@@ -321,7 +321,9 @@ class MergeE2eTest : public ::testing::Test {
 // 0.005-0.21 deg; map 82.3-96.2 % within 1 cell of a wall (robot1's start anchors it: 0.1 m
 // between the robots is two cells). Since submaps are searched again as maps grow (session 23)
 // robot2 is often placed by its early submaps, up to 0.78 deg off in 11 runs: the other robots'
-// bodies, mapped where they passed it, turn those matches (the bound is 1 deg).
+// bodies, mapped where they passed it, turn those matches (the bound is 1 deg). On 2026-12-05
+// (CI of session 29) robot1 was left waiting: the half-turned alternative crossed 29 walls
+// against the join's 0, and 30 ruled one out then; 20 since session 30.
 TEST_F(MergeE2eTest, AgentsWithUnknownStartsAreMergedByTheServer) { RunAndCheck(); }
 // After the restart the server searched every stored submap over the maps of that moment, and
 // left robot2 waiting in 2 of 16 runs until submaps are searched again once the other map has
