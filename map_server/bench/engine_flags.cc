@@ -39,6 +39,24 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                   "waits (MergeEngineOptions::whole_map_max_refuted)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_option("--whole-map-symmetries", options->whole_map_symmetry_max_examined,
+                  "merge engine: a join on matches alone also waits on its twins under moves that "
+                  "fit either map onto itself; this many such moves are looked for, best first "
+                  "(MergeEngineOptions::whole_map_symmetry_max_examined; 0: none)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option("--whole-map-symmetry-min-overlap", options->whole_map_symmetry_min_overlap,
+                  "merge engine: a move fits a map onto itself when it lands this share of the map "
+                  "on itself (MergeEngineOptions::whole_map_symmetry_min_overlap)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app->add_option("--whole-map-symmetry-max-contradictions",
+                  options->whole_map_symmetry_max_contradictions,
+                  "merge engine: a move that puts this many of a map's walls in space the map saw "
+                  "free does not fit it onto itself "
+                  "(MergeEngineOptions::whole_map_symmetry_max_contradictions)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app->add_option("--max-pull-distance", options->match.refine.max_pull_distance,
                   "merge engine: metres; in a match's refinement, points farther than this from "
                   "a wall do not pull (PoseRefinerOptions::max_pull_distance; 0: no limit)")

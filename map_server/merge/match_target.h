@@ -89,6 +89,7 @@ class MatchTarget {
   MatchTarget& operator=(const MatchTarget&) = delete;
 
   bool empty() const { return grid_.empty() || grid_.num_occupied() == 0; }
+  double resolution() const { return grid_.resolution(); }
   // Bounds of the target grid (target frame).
   Eigen::Vector2d min_corner() const { return grid_.origin(); }
   Eigen::Vector2d max_corner() const {

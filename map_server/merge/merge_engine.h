@@ -236,6 +236,14 @@ class MergeEngine {
     WholeMapVerdict answer;
   };
   std::map<std::pair<std::string, std::string>, CachedAmbiguity> ambiguities_;
+  // Each part's own symmetries (map_symmetries.h) at its canvas stamp: many joins are checked
+  // against one part's map between two of its changes. Filled by SearchWholeMaps, which only
+  // WholeMapAmbiguity calls (never from the search threads).
+  struct CachedSymmetries {
+    std::string stamp;
+    std::vector<Rigid2d> moves;
+  };
+  mutable std::map<std::string, CachedSymmetries> symmetries_;
 };
 
 }  // namespace fleetmap

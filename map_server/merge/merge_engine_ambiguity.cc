@@ -7,11 +7,13 @@
 // score alike: the join then waits (for a detection, or for maps that tell them apart).
 
 #include <algorithm>
+#include <optional>
 #include <sstream>
 #include <vector>
 
 #include "map_server/merge/grid_points.h"
 #include "map_server/merge/internal/merge_engine_state.h"
+#include "map_server/merge/map_symmetries.h"
 #include "map_server/merge/merge_engine.h"
 #include "map_server/merge/trail_walls.h"
 
@@ -119,6 +121,31 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
   const TrailMask trails_a = trails_of(root_a), trails_b = trails_of(root_b);
   const std::vector<bool> own_a = blobs_a.OnTrails(trails_a, Rigid2d());
   const std::vector<bool> own_b = blobs_b.OnTrails(trails_b, Rigid2d());
+  // Moves under which either map fits itself (the department turned half round): the join
+  // followed by one is a twin no search by score may reach (map_symmetries.h).
+  std::vector<Rigid2d> symmetries_a, symmetries_b;
+  if (options_.whole_map_symmetry_max_examined > 0) {
+    MapSymmetryOptions symmetry;
+    symmetry.min_overlap = options_.whole_map_symmetry_min_overlap;
+    symmetry.min_overlap_score = options_.whole_map_ambiguity;
+    symmetry.max_contradictions = options_.whole_map_symmetry_max_contradictions;
+    symmetry.max_examined = options_.whole_map_symmetry_max_examined;
+    symmetry.distinct = options_.cross_gates.distinct;
+    symmetry.gates = options_.cross_gates;
+    const auto cached = [&](const std::string& root, const MatchTarget& map,
+                            const MatchSource& points, const std::vector<int>& blob_of,
+                            const std::vector<bool>& own) {
+      CachedSymmetries& entry = symmetries_[root];
+      const std::string stamp = CanvasStamp(root);
+      if (entry.stamp != stamp) {
+        entry = {stamp, MapSymmetries(map, points, WallsOffTrails(points.fine, blob_of, own, own),
+                                      symmetry)};
+      }
+      return entry.moves;
+    };
+    symmetries_a = cached(root_a, target, reverse_source, blob_of_a, own_a);
+    symmetries_b = cached(root_b, reverse_target, source, blob_of_b, own_b);
+  }
   // Turn about the source's centroid, so that the window only has to cover the target.
   const Eigen::Vector2d c = Centroid(source.coarse);
   TransformSource(Rigid2d(-c, 0.0), &source);
@@ -192,15 +219,46 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     zone.center = pose;
     alternatives.Exclude(zone);
   };
-  for (int refuted = 0, examined = 0;;) {
-    const auto other =
-        examined++ < options_.whole_map_max_examined ? alternatives.Next() : std::nullopt;
+  // The join's twins first: b's map moved by a's symmetry, or by its own before the join.
+  std::vector<Rigid2d> twins;
+  for (const Rigid2d& move : symmetries_a) {
+    twins.push_back(refined(move * candidate));
+    twins.push_back(refined(move.inverse() * candidate));
+  }
+  for (const Rigid2d& move : symmetries_b) {
+    twins.push_back(refined(b_in_a * move * Rigid2d(c, 0.0)));
+    twins.push_back(refined(b_in_a * move.inverse() * Rigid2d(c, 0.0)));
+  }
+  // Half turns are their own inverses, and two maps can share a symmetry: each twin once.
+  std::vector<Rigid2d> distinct_twins;
+  for (const Rigid2d& t : twins) {
+    const auto same = [&](const Rigid2d& u) {
+      const Rigid2d apart = u.inverse() * t;
+      return apart.translation().norm() < zone.linear &&
+             std::abs(NormalizeAngle(apart.rotation())) < zone.angular;
+    };
+    if (std::none_of(distinct_twins.begin(), distinct_twins.end(), same)) {
+      distinct_twins.push_back(t);
+    }
+  }
+  twins = std::move(distinct_twins);
+  size_t next_twin = 0;
+  for (int refuted = 0, twins_refuted = 0, examined = 0;;) {
+    const bool twin = next_twin < twins.size();
+    std::optional<MatchCandidate> other;
+    if (twin) {
+      other = MatchCandidate{};
+      other->pose = twins[next_twin++];
+    } else if (examined++ < options_.whole_map_max_examined) {
+      other = alternatives.Next();
+    }
     WholeMapVerdict verdict;
     verdict.note = "the join puts " + std::to_string(candidate_contradictions) +
                    " wall points in space the other map saw free (and " +
                    std::to_string(candidate_on_trails) + " on the robots' trails)";
-    if (refuted > 0) {
-      verdict.note += "; the whole maps' walls rule out " + std::to_string(refuted) +
+    if (refuted + twins_refuted > 0) {
+      verdict.note += "; the whole maps' walls rule out " +
+                      std::to_string(refuted + twins_refuted) +
                       " other alignment(s) scoring nearly as well (" + ruled_out.str() + ")";
     }
     if (!other) return verdict;
@@ -208,7 +266,9 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     const bool explains_as_much = at_other.score >= ratio * at_candidate.score;
     const bool as_consistent = at_other.overlap >= min_overlap * at_candidate.overlap &&
                                at_other.overlap_score >= ratio * at_candidate.overlap_score;
-    if (!explains_as_much && !as_consistent) {
+    // A twin competes whatever its overlap: where the maps look alike moved, agreeing over
+    // more of them is no evidence.
+    if (!twin && !explains_as_much && !as_consistent) {
       // Not as good, but one scoring less may still be as consistent where it overlaps: stopping
       // here accepted a join 33 m / 180 deg off in the department (session 22).
       set_aside(other->pose);
@@ -224,21 +284,24 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     const bool ruled_out_by_walls =
         options_.whole_map_min_contradictions > 0 &&
         candidate_contradictions <= options_.whole_map_max_join_contradictions &&
-        at_other.score <= at_candidate.score &&
+        (twin || at_other.score <= at_candidate.score) &&
         other_contradictions >=
             options_.whole_map_min_contradictions +
                 options_.whole_map_contradiction_ratio * candidate_contradictions;
-    if (ruled_out_by_walls && refuted < options_.whole_map_max_refuted) {
-      ruled_out << (refuted > 0 ? "; " : "");
+    // Twins come from the maps' symmetries, not from the search: they do not use up the
+    // alternatives the walls may rule out.
+    if (ruled_out_by_walls && (twin || refuted < options_.whole_map_max_refuted)) {
+      ruled_out << (refuted + twins_refuted > 0 ? "; " : "");
       describe(ruled_out, apart);
       ruled_out << ": " << other_contradictions << " wall points in seen-free space against "
                 << candidate_contradictions;
-      ++refuted;
+      ++(twin ? twins_refuted : refuted);
       set_aside(other->pose);
       continue;
     }
     why << "ambiguous over the whole maps: an alignment ";
     describe(why, apart);
+    if (twin) why << " (the join moved by a symmetry of one map: that map fits itself moved)";
     why << " fits as well (score " << at_other.score << " against " << at_candidate.score
         << "; where the maps overlap " << at_other.overlap_score << " over " << at_other.overlap
         << " of the points, against " << at_candidate.overlap_score << " over "

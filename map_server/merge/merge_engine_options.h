@@ -118,6 +118,28 @@ struct MergeEngineOptions {
   // most whole_map_max_examined are examined, from one search that keeps its frontier
   // (PeakSearch): 16 fresh searches over east_end's maps took 4.6 s, the frontier 0.34 s.
   int whole_map_max_examined = 16;
+  // Alternatives can also be looked for where the search above does not reach them: the join
+  // followed by a move under which either part's own map fits itself (map_symmetries.h). The
+  // department fits itself turned half round. With local SLAM's local map in 2.5 cm cells
+  // (measured in session 29, not shipped) department_3robots joined robot3 48.9 m / 180 deg off
+  // on 2 of 4 seeds without detections: robot3's map fits robot2's turned round over 98 % of its
+  // points, while the true alignment lands only a third of them on robot2's map and lay past the
+  // 200th alternative by score. Such a twin keeps the join waiting unless the walls rule it out,
+  // whatever its overlap or score: the maps agreeing where they overlap tells nothing in a
+  // building that looks the same moved (a true join in the twin offices was kept waiting by its
+  // twin scoring 0.483 against 0.462 while crossing 50 points against 0). Twins ruled out do not
+  // count against whole_map_max_refuted. A move counts when it lands
+  // whole_map_symmetry_min_overlap of the map on itself, scores there whole_map_ambiguity of the
+  // map unmoved, and puts fewer than whole_map_symmetry_max_contradictions of its walls in space
+  // the map saw free; the best whole_map_symmetry_max_examined moves by score are examined. Each
+  // part's moves are kept until its map changes. Off (0) by default: with the 2.5 cm local map it
+  // kept seed +0's wrong join waiting (its twin was the true alignment) but not seed +3's, where
+  // robot1 and robot2's map did not yet fit itself turned round when the wrong join came; and
+  // with the moves it finds east_end waits on partial half turns of its corridors (session 30,
+  // docs/BENCHMARKS.md). Kept for measuring (fleetmap-merge-sim-bench --whole-map-symmetries).
+  int whole_map_symmetry_max_examined = 0;
+  double whole_map_symmetry_min_overlap = 0.25;
+  int whole_map_symmetry_max_contradictions = 30;
   // A submap match (no detection) is also confirmed by another submap of the same robot matching
   // at the pose it predicts, when the whole-map check then finds nothing as good. Without this a
   // second match had to pass the global search's gates too, and in the department's east end

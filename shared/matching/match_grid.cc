@@ -20,7 +20,10 @@ int FloorToBlock(int v) {
 
 MatchGrid::MatchGrid(const MatchGridOptions& options)
     : options_(options),
-      max_squared_(static_cast<float>(options.max_distance * options.max_distance)) {}
+      max_squared_(static_cast<float>(options.max_distance * options.max_distance)) {
+  if (options_.observed_block < 1 || kGrowthBlock % options_.observed_block != 0)
+    options_.observed_block = 1;
+}
 
 MatchGrid MatchGrid::FromLikelihoodField(const LikelihoodField& field, double max_distance) {
   MatchGridOptions options;
@@ -142,8 +145,11 @@ void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen
 }
 
 void MatchGrid::MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
-  // Every cell the segment crosses, in order (Amanatides-Woo), the point's cell included.
-  const Eigen::Vector2d a = (from - origin_) / options_.resolution, b = (to - origin_) / options_.resolution;
+  // Every block the segment crosses, in order (Amanatides-Woo), the point's block included; all
+  // the cells of each.
+  const int block = options_.observed_block;
+  const double block_size = options_.resolution * block;
+  const Eigen::Vector2d a = (from - origin_) / block_size, b = (to - origin_) / block_size;
   const Eigen::Vector2d d = b - a;
   int x = static_cast<int>(std::floor(a.x())), y = static_cast<int>(std::floor(a.y()));
   const int end_x = static_cast<int>(std::floor(b.x())), end_y = static_cast<int>(std::floor(b.y()));
@@ -155,8 +161,13 @@ void MatchGrid::MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to) 
   double next_y = d.y() != 0.0 ? ((step_y > 0 ? y + 1.0 : y) - a.y()) / d.y() : inf;
   const int cells = std::abs(end_x - x) + std::abs(end_y - y);
   for (int i = 0; i <= cells; ++i) {
-    if (x >= 0 && y >= 0 && x < width_ && y < height_) {
-      observed_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)] = 1;
+    for (int cy = y * block; cy < (y + 1) * block; ++cy) {
+      for (int cx = x * block; cx < (x + 1) * block; ++cx) {
+        if (cx >= 0 && cy >= 0 && cx < width_ && cy < height_) {
+          observed_[static_cast<size_t>(cy) * static_cast<size_t>(width_) +
+                    static_cast<size_t>(cx)] = 1;
+        }
+      }
     }
     if (next_x < next_y) {
       next_x += delta_x;
@@ -170,11 +181,14 @@ void MatchGrid::MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to) 
 
 bool MatchGrid::SeenFree(const Eigen::Vector2d& point, double clearance) const {
   if (!options_.track_observed) return false;
+  const int block = options_.observed_block;
   const Eigen::Vector2d g = (point - origin_) / options_.resolution;
-  if (!(g.x() >= 1.0 && g.y() >= 1.0 && g.x() < width_ - 1 && g.y() < height_ - 1)) return false;
+  if (!(g.x() >= block && g.y() >= block && g.x() < width_ - block && g.y() < height_ - block))
+    return false;
   const int x = static_cast<int>(g.x()), y = static_cast<int>(g.y());
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
+  // The point's block and the 8 around it (any cell of a block stands for it).
+  for (int dy = -block; dy <= block; dy += block) {
+    for (int dx = -block; dx <= block; dx += block) {
       if (!CellObserved(x + dx, y + dy)) return false;
     }
   }

@@ -39,6 +39,10 @@ struct MatchGridOptions {
   // side of a box or round a corner matches best where its unseen parts land on seen walls.
   bool track_observed = false;
   float unknown_score = 0.4f;
+  // Seen space is tracked in square blocks of this many cells a side (1: per cell), aligned to
+  // the grid's 64-cell growth blocks: a finer distance field can keep the seen-space rules of a
+  // coarser one (SeenFree's 3 x 3 neighbourhood is then 3 x 3 blocks). Must divide 64.
+  int observed_block = 1;
 };
 
 // The target a scan is matched against: for every cell centre, the squared distance (m^2,

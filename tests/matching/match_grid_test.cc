@@ -151,6 +151,37 @@ TEST(MatchGridTest, SeenFreeIsTheInteriorOfCrossedSpace) {
   EXPECT_FALSE(MatchGrid().SeenFree(Eigen::Vector2d(3.0, 0.0), 0.08));  // not tracked
 }
 
+// Seen space in 2 x 2 blocks of 2.5 cm cells is a 5 cm grid's, point for point: the rays of a
+// 1-degree fan leave 2.5 cm cells between them unseen from about 1.5 m on, but not 5 cm ones.
+TEST(MatchGridTest, SeenSpaceInBlocksIsACoarserGridsSeenSpace) {
+  std::vector<Eigen::Vector2f> wall;  // 2.5 m ahead
+  for (int degree = -30; degree <= 30; ++degree) {
+    wall.emplace_back(2.5f, static_cast<float>(2.5 * std::tan(degree * M_PI / 180.0)));
+  }
+  MatchGridOptions coarse;
+  coarse.track_observed = true;
+  MatchGridOptions fine = coarse;
+  fine.resolution = 0.025;
+  MatchGridOptions blocks = fine;
+  blocks.observed_block = 2;
+  MatchGrid coarse_grid(coarse), fine_grid(fine), block_grid(blocks);
+  for (MatchGrid* grid : {&coarse_grid, &fine_grid, &block_grid}) grid->AddPoints(wall, Rigid2d());
+  int coarse_free = 0, fine_free = 0, disagree = 0;
+  // Farther than max_distance from the wall, so the clearance test passes in every grid alike.
+  for (double x = 1.0; x <= 2.15; x += 0.0073) {
+    for (double y = -0.4; y <= 0.4; y += 0.0073) {
+      const Eigen::Vector2d p(x, y);
+      const bool seen_free = coarse_grid.SeenFree(p, 0.08);
+      coarse_free += seen_free;
+      fine_free += fine_grid.SeenFree(p, 0.08);
+      disagree += block_grid.SeenFree(p, 0.08) != seen_free;
+    }
+  }
+  EXPECT_GT(coarse_free, 10000);
+  EXPECT_LT(fine_free, coarse_free * 9 / 10);
+  EXPECT_EQ(disagree, 0);
+}
+
 TEST(MatchGridTest, GrowingKeepsEarlierPoints) {
   MatchGrid grid;
   grid.AddPoint(Eigen::Vector2d(0.0, 0.0));

@@ -32,6 +32,25 @@ SegmentWorld OfficeWorld() {
   return world;
 }
 
+Rigid2d TwinOfficesHalfTurn() { return Rigid2d(40.0, 12.0, M_PI); }
+
+SegmentWorld TwinOffices(bool crates) {
+  SegmentWorld office;
+  for (const Segment& s : OfficeWorld()) {
+    const bool shared_wall = s.a.x() == 20.0 && s.b.x() == 20.0;
+    if (!shared_wall) office.push_back(s);
+  }
+  office.push_back({Eigen::Vector2d(20, 0), Eigen::Vector2d(20, 5)});
+  SegmentWorld world = office;
+  const Rigid2d turn = TwinOfficesHalfTurn();
+  for (const Segment& s : office) world.push_back({turn * s.a, turn * s.b});
+  if (crates) {
+    AddBox(Eigen::Vector2d(11, 9.5), Eigen::Vector2d(12.3, 11), &world);
+    AddBox(Eigen::Vector2d(15, 6), Eigen::Vector2d(16.5, 7.2), &world);
+  }
+  return world;
+}
+
 SegmentWorld CorridorWorld() {
   SegmentWorld world;
   Add(&world, 0, 0, 30, 0);

@@ -15,6 +15,13 @@ namespace fleetmap::testing {
 
 // An office-like floor (about 20 m x 12 m) with rooms and clutter: no symmetry.
 SegmentWorld OfficeWorld();
+// The office and beside it the office turned half round about (20, 6) (TwinOfficesHalfTurn):
+// every wall of one is a wall of the other turned round, as in the simulator's department. A
+// door in the wall they share (x = 20, y = 5-7) joins them. With `crates`, the office (not its
+// turned twin) has a crate in its middle room and one in its right room, out of the robots'
+// way: then the twins differ, but only a little.
+SegmentWorld TwinOffices(bool crates = false);
+Rigid2d TwinOfficesHalfTurn();
 // A long straight corridor (walls at y = 0 and y = 2, from x = 0 to 30): translation-symmetric.
 SegmentWorld CorridorWorld();
 

@@ -1,0 +1,66 @@
+#include "map_server/merge/map_symmetries.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "map_server/merge/grid_points.h"
+
+namespace fleetmap {
+
+std::vector<Rigid2d> MapSymmetries(const MatchTarget& target, const MatchSource& source,
+                                   const std::vector<Eigen::Vector2d>& walls,
+                                   const MapSymmetryOptions& options) {
+  std::vector<Rigid2d> found;
+  if (target.empty() || source.coarse.empty() || options.max_examined <= 0) return found;
+  // Turned about the map's centroid, so that the window only has to cover the map.
+  const Eigen::Vector2d c = Centroid(source.coarse);
+  MatchSource centred = source;
+  TransformSource(Rigid2d(-c, 0.0), &centred);
+  const Rigid2d identity(c, 0.0);  // the centred map back where it was
+  MatchGates any = options.gates;
+  any.min_score = 0.0;
+  any.min_points = 0;
+  const MatchResult at_identity = target.Evaluate(centred, identity, any);
+  if (!(at_identity.overlap_score > 0.0)) return found;
+  SearchWindow window;
+  window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
+  window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());
+  window.angular_half_extent = M_PI;
+  ExclusionZone zone = options.distinct;
+  zone.center = identity;
+  // A move scores over all points at least its overlap times its score there.
+  PeakSearch peaks = target.PeaksOutside(
+      centred, window, options.min_overlap * options.min_overlap_score * at_identity.overlap_score,
+      {zone});
+  for (int examined = 0; examined < options.max_examined; ++examined) {
+    const auto peak = peaks.Next();
+    if (!peak) break;
+    zone.center = peak->pose;
+    peaks.Exclude(zone);
+    // The lattice pose can be a cell and a step of heading off the move's best fit.
+    SearchWindow near;
+    near.center = peak->pose;
+    near.linear_half_extent = Eigen::Vector2d::Constant(target.resolution());
+    near.angular_half_extent = 0.01;
+    const MatchResult fit = target.Match(centred, near, any);
+    const Rigid2d pose = fit.found ? fit.pose : peak->pose;
+    const MatchResult at_pose = target.Evaluate(centred, pose, any);
+    if (at_pose.overlap < options.min_overlap ||
+        at_pose.overlap_score < options.min_overlap_score * at_identity.overlap_score) {
+      continue;
+    }
+    const Rigid2d move = pose * Rigid2d(-c, 0.0);
+    // Refined back onto no move, or onto a move already found: not distinct.
+    const auto close_to = [&](const Rigid2d& other) {
+      const Rigid2d apart = other.inverse() * move;
+      return apart.translation().norm() < options.distinct.linear &&
+             std::abs(NormalizeAngle(apart.rotation())) < options.distinct.angular;
+    };
+    if (close_to(Rigid2d()) || std::any_of(found.begin(), found.end(), close_to)) continue;
+    if (target.ContradictionsAt(walls, move) >= options.max_contradictions) continue;
+    found.push_back(move);
+  }
+  return found;
+}
+
+}  // namespace fleetmap
