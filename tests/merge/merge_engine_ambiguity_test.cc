@@ -24,6 +24,14 @@ std::vector<Rigid2d> Turned(const std::vector<Rigid2d>& path) {
   return out;
 }
 
+// The office's three rooms, left to right and round the right room, then `tail`: 0.25 m steps.
+std::vector<Rigid2d> OfficeTour(std::vector<Eigen::Vector2d> tail) {
+  std::vector<Eigen::Vector2d> waypoints = {{2, 6},    {5.5, 5.5}, {8, 6},  {11, 5},   {14, 5},
+                                            {18.5, 5}, {18.5, 9},  {14, 9}, {18.5, 9}, {18.5, 5}};
+  waypoints.insert(waypoints.end(), tail.begin(), tail.end());
+  return testing::PathThrough(waypoints, 0.25);
+}
+
 // Robot a drives the turned office's three rooms, then the office's right and middle rooms
 // (never its left room). Robot b starts in the office's left room and drives on into the middle
 // and right rooms, where it stays. b's first submaps show a room a saw only turned round: each
@@ -31,10 +39,7 @@ std::vector<Rigid2d> Turned(const std::vector<Rigid2d>& path) {
 // map the true alignment fits nearly as well (a saw the rooms b spends most of its time in both
 // ways round), so the join must wait.
 std::pair<SimRobot, SimRobot> TwinOfficeRobots() {
-  const std::vector<Rigid2d> tour = testing::PathThrough(
-      {{2, 6}, {5.5, 5.5}, {8, 6}, {11, 5}, {14, 5}, {18.5, 5}, {18.5, 9}, {14, 9}, {18.5, 9},
-       {18.5, 5}, {11, 6}},
-      0.25);
+  const std::vector<Rigid2d> tour = OfficeTour({{11, 6}});
   std::vector<Rigid2d> a_path = Turned(tour);
   for (const Rigid2d& p : testing::PathThrough(
            {{21.5, 6}, {18.5, 6}, {18.5, 9}, {14.5, 9}, {18.5, 9}, {18.5, 5}, {14, 5}, {11, 6}}, 0.25)) {
@@ -155,20 +160,7 @@ std::unique_ptr<MergeEngine> UnlikeTwinsEngine(int min_contradictions, SimRobot*
   testing::SegmentWorld world = TwinOffices();
   world.push_back({Eigen::Vector2d(0, 8.5), Eigen::Vector2d(4, 8.5)});
   world.push_back({Eigen::Vector2d(8, 10), Eigen::Vector2d(12, 10)});
-  const std::vector<Rigid2d> tour = testing::PathThrough({{2, 6},
-                                                          {5.5, 5.5},
-                                                          {8, 6},
-                                                          {11, 5},
-                                                          {14, 5},
-                                                          {18.5, 5},
-                                                          {18.5, 9},
-                                                          {14, 9},
-                                                          {18.5, 9},
-                                                          {18.5, 5},
-                                                          {11, 6},
-                                                          {8, 6},
-                                                          {3, 6}},
-                                                         0.25);
+  const std::vector<Rigid2d> tour = OfficeTour({{11, 6}, {8, 6}, {3, 6}});
   const std::vector<Rigid2d> a_path = Turned(tour);
   *a = SimRobot{"a", a_path, Rigid2d(a_path.front().translation(), 0.4)};
   *b = SimRobot{"b", tour, Rigid2d(tour.front().translation(), -1.1)};
@@ -211,18 +203,7 @@ TEST(MergeEngineAmbiguityTest, WithoutCountingWallsSeenThroughTheUnlikeTwinsJoin
 // nothing in the maps tells the two apart. a's map fits itself turned half round (its right
 // rooms), and the turned join moved by that turn is the true alignment: the join must wait.
 std::unique_ptr<MergeEngine> TwinOfTheJoinEngine(int symmetries, SimRobot* a, SimRobot* b) {
-  const std::vector<Rigid2d> tour = testing::PathThrough({{2, 6},
-                                                          {5.5, 5.5},
-                                                          {8, 6},
-                                                          {11, 5},
-                                                          {14, 5},
-                                                          {18.5, 5},
-                                                          {18.5, 9},
-                                                          {14, 9},
-                                                          {18.5, 9},
-                                                          {18.5, 5},
-                                                          {19, 6}},
-                                                         0.25);
+  const std::vector<Rigid2d> tour = OfficeTour({{19, 6}});
   std::vector<Rigid2d> a_path = Turned(tour);
   for (const Rigid2d& p : testing::PathThrough(
            {{21.5, 6}, {18.5, 6}, {18.5, 9}, {14.5, 9}, {18.5, 9}, {18.5, 5}, {14.5, 5}}, 0.25)) {
