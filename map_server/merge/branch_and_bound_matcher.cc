@@ -16,10 +16,8 @@ bool Excluded(const SearchLattice& lattice, const std::vector<ExclusionZone>& ex
               const LatticeNode& node) {
   if (exclusions.empty()) return false;
   const Rigid2d pose = NodePose(lattice, node);
-  return std::any_of(exclusions.begin(), exclusions.end(), [&](const ExclusionZone& zone) {
-    return (pose.translation() - zone.center.translation()).norm() < zone.linear &&
-           std::abs(NormalizeAngle(pose.rotation() - zone.center.rotation())) < zone.angular;
-  });
+  return std::any_of(exclusions.begin(), exclusions.end(),
+                     [&](const ExclusionZone& zone) { return zone.Contains(pose); });
 }
 
 // The four blocks one level down, those inside the window.

@@ -1,11 +1,11 @@
 #ifndef FLEETMAP_MAP_SERVER_MERGE_BRANCH_AND_BOUND_MATCHER_H_
 #define FLEETMAP_MAP_SERVER_MERGE_BRANCH_AND_BOUND_MATCHER_H_
 
+#include <Eigen/Core>
+#include <cmath>
 #include <optional>
 #include <queue>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "map_server/merge/score_grid.h"
 #include "shared/core/rigid2d.h"
@@ -26,6 +26,11 @@ struct ExclusionZone {
   Rigid2d center;
   double linear = 0.5;    // metres
   double angular = 0.26;  // radians
+
+  bool Contains(const Rigid2d& pose) const {
+    return (pose.translation() - center.translation()).norm() < linear &&
+           std::abs(NormalizeAngle(pose.rotation() - center.rotation())) < angular;
+  }
 };
 
 struct BranchAndBoundOptions {

@@ -1,7 +1,6 @@
 #include "map_server/merge/map_symmetries.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "map_server/merge/grid_points.h"
 
@@ -37,13 +36,7 @@ std::vector<Rigid2d> MapSymmetries(const MatchTarget& target, const MatchSource&
     if (!peak) break;
     zone.center = peak->pose;
     peaks.Exclude(zone);
-    // The lattice pose can be a cell and a step of heading off the move's best fit.
-    SearchWindow near;
-    near.center = peak->pose;
-    near.linear_half_extent = Eigen::Vector2d::Constant(target.resolution());
-    near.angular_half_extent = 0.01;
-    const MatchResult fit = target.Match(centred, near, any);
-    const Rigid2d pose = fit.found ? fit.pose : peak->pose;
+    const Rigid2d pose = target.BestFitNear(centred, peak->pose, options.gates);
     const MatchResult at_pose = target.Evaluate(centred, pose, any);
     if (at_pose.overlap < options.min_overlap ||
         at_pose.overlap_score < options.min_overlap_score * at_identity.overlap_score) {
@@ -52,9 +45,9 @@ std::vector<Rigid2d> MapSymmetries(const MatchTarget& target, const MatchSource&
     const Rigid2d move = pose * Rigid2d(-c, 0.0);
     // Refined back onto no move, or onto a move already found: not distinct.
     const auto close_to = [&](const Rigid2d& other) {
-      const Rigid2d apart = other.inverse() * move;
-      return apart.translation().norm() < options.distinct.linear &&
-             std::abs(NormalizeAngle(apart.rotation())) < options.distinct.angular;
+      ExclusionZone around = options.distinct;
+      around.center = other;
+      return around.Contains(move);
     };
     if (close_to(Rigid2d()) || std::any_of(found.begin(), found.end(), close_to)) continue;
     if (target.ContradictionsAt(walls, move) >= options.max_contradictions) continue;

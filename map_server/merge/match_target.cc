@@ -131,6 +131,19 @@ double OverlapInlierFraction(const ScoreGrid& grid, const LikelihoodField& field
 
 }  // namespace
 
+Rigid2d MatchTarget::BestFitNear(const MatchSource& source, const Rigid2d& pose,
+                                 const MatchGates& gates) const {
+  SearchWindow near;
+  near.center = pose;
+  near.linear_half_extent = Eigen::Vector2d::Constant(grid_.resolution());
+  near.angular_half_extent = 0.01;
+  MatchGates any = gates;
+  any.min_score = 0.0;
+  any.min_points = 0;
+  const MatchResult fit = Match(source, near, any);
+  return fit.found ? fit.pose : pose;
+}
+
 MatchResult MatchTarget::Evaluate(const MatchSource& source, const Rigid2d& pose,
                                   const MatchGates& gates) const {
   return EvaluateWithScore(source, pose, gates, matcher_->ScoreAt(source.coarse, pose));

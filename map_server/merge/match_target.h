@@ -89,7 +89,6 @@ class MatchTarget {
   MatchTarget& operator=(const MatchTarget&) = delete;
 
   bool empty() const { return grid_.empty() || grid_.num_occupied() == 0; }
-  double resolution() const { return grid_.resolution(); }
   // Bounds of the target grid (target frame).
   Eigen::Vector2d min_corner() const { return grid_.origin(); }
   Eigen::Vector2d max_corner() const {
@@ -102,6 +101,10 @@ class MatchTarget {
 
   // Scores a given pose without searching (same figures as Match, no ambiguity).
   MatchResult Evaluate(const MatchSource& source, const Rigid2d& pose, const MatchGates& gates) const;
+  // The best fit within a cell and 0.01 rad of `pose` (a lattice pose of PeaksOutside can be that
+  // far off its peak), whatever it scores; `pose` itself when nothing scores.
+  Rigid2d BestFitNear(const MatchSource& source, const Rigid2d& pose,
+                      const MatchGates& gates) const;
 
   // The lattice poses in `window` outside every one of `zones` scoring above `min_score`, best
   // first, one distinct peak at a time (PeakSearch): to ask whether anything else explains the

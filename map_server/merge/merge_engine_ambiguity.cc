@@ -175,15 +175,7 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
       candidate_contradictions;
   // The best fit near a lattice pose (within a cell and a few steps of heading).
   const auto refined = [&](const Rigid2d& pose) {
-    SearchWindow near;
-    near.center = pose;
-    near.linear_half_extent = Eigen::Vector2d::Constant(resolution);
-    near.angular_half_extent = 0.01;
-    MatchGates any = options_.cross_gates;
-    any.min_score = 0.0;
-    any.min_points = 0;
-    const MatchResult fit = target.Match(source, near, any);
-    return fit.found ? fit.pose : pose;
+    return target.BestFitNear(source, pose, options_.cross_gates);
   };
   // Judged by the evidence that rules alternatives out: a join that puts as many walls where the
   // other map saw through is no better than they are (the synthetic building, 4 submaps a robot:
@@ -233,9 +225,9 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
   std::vector<Rigid2d> distinct_twins;
   for (const Rigid2d& t : twins) {
     const auto same = [&](const Rigid2d& u) {
-      const Rigid2d apart = u.inverse() * t;
-      return apart.translation().norm() < zone.linear &&
-             std::abs(NormalizeAngle(apart.rotation())) < zone.angular;
+      ExclusionZone around = zone;
+      around.center = u;
+      return around.Contains(t);
     };
     if (std::none_of(distinct_twins.begin(), distinct_twins.end(), same)) {
       distinct_twins.push_back(t);
