@@ -34,6 +34,12 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                   "join, best scoring first (MergeEngineOptions::whole_map_max_examined)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_option("--whole-map-unseen-score", options->whole_map_unseen_score,
+                  "merge engine: what a wall point landing where the other map saw nothing scores "
+                  "in the search for alternative alignments of the whole maps "
+                  "(MergeEngineOptions::whole_map_unseen_score; 0: no such search)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   app->add_option("--whole-map-max-refuted", options->whole_map_max_refuted,
                   "merge engine: most alternatives the walls may rule out for one join before it "
                   "waits (MergeEngineOptions::whole_map_max_refuted)")

@@ -200,6 +200,44 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
   zone.center = candidate;
   PeakSearch alternatives =
       target.PeaksOutside(source, window, min_overlap * ratio * at_candidate.score, {zone});
+  // Ordered by score over all of b's points, the search reaches late or never an alignment as
+  // consistent as the join where the maps overlap that overlaps less: department_3robots' true
+  // robot2-robot3 alignment, a third of robot3's map on robot2's, came past the 64th (session
+  // 29), and robot3 was joined 48.9 m / 180 deg off. A second search, examined first, scores a
+  // point landing where a saw nothing whole_map_unseen_score u instead of 0: an alignment
+  // landing a share f of b's points where a scores s per point then scores u + f (s - u), so one
+  // as consistent as the join over min_overlap of its overlap scores at least min_score.
+  std::optional<MatchTarget> unseen_neutral;
+  std::optional<PeakSearch> consistent_alternatives;
+  const double u = options_.whole_map_unseen_score;
+  if (u > 0.0 && ratio * at_candidate.overlap_score > u) {
+    MatchTargetOptions neutral = match_options;
+    neutral.grid.unknown_score = static_cast<float>(u);
+    unseen_neutral.emplace(map_a, neutral);
+    // Overlapping only a part of a's map, b's centroid can lie off it.
+    double radius = 0.0;
+    for (const Eigen::Vector2d& p : source.coarse) radius = std::max(radius, p.norm());
+    SearchWindow wider = window;
+    wider.linear_half_extent += Eigen::Vector2d::Constant(radius);
+    const double min_score =
+        u + min_overlap * at_candidate.overlap * (ratio * at_candidate.overlap_score - u);
+    consistent_alternatives.emplace(unseen_neutral->PeaksOutside(source, wider, min_score, {zone}));
+  }
+  int examined = 0, consistent_examined = 0;
+  bool consistent = false;  // the alternative came from the second search
+  const auto next_alternative = [&]() -> std::optional<MatchCandidate> {
+    consistent = false;
+    if (consistent_alternatives && consistent_examined < options_.whole_map_max_examined) {
+      ++consistent_examined;
+      if (auto next = consistent_alternatives->Next()) {
+        consistent = true;
+        return next;
+      }
+      consistent_examined = options_.whole_map_max_examined;  // none left
+    }
+    if (examined++ < options_.whole_map_max_examined) return alternatives.Next();
+    return std::nullopt;
+  };
   std::ostringstream ruled_out;
   ruled_out.precision(3);
   const auto describe = [&](std::ostream& os, const Rigid2d& apart) {
@@ -210,6 +248,7 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
   const auto set_aside = [&](const Rigid2d& pose) {
     zone.center = pose;
     alternatives.Exclude(zone);
+    if (consistent_alternatives) consistent_alternatives->Exclude(zone);
   };
   // The join's twins first: b's map moved by a's symmetry, or by its own before the join.
   std::vector<Rigid2d> twins;
@@ -235,22 +274,22 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
   }
   twins = std::move(distinct_twins);
   size_t next_twin = 0;
-  for (int refuted = 0, twins_refuted = 0, examined = 0;;) {
+  for (int refuted = 0, twins_refuted = 0, consistent_refuted = 0;;) {
     const bool twin = next_twin < twins.size();
     std::optional<MatchCandidate> other;
     if (twin) {
       other = MatchCandidate{};
       other->pose = twins[next_twin++];
-    } else if (examined++ < options_.whole_map_max_examined) {
-      other = alternatives.Next();
+    } else {
+      other = next_alternative();
     }
     WholeMapVerdict verdict;
     verdict.note = "the join puts " + std::to_string(candidate_contradictions) +
                    " wall points in space the other map saw free (and " +
                    std::to_string(candidate_on_trails) + " on the robots' trails)";
-    if (refuted + twins_refuted > 0) {
-      verdict.note += "; the whole maps' walls rule out " +
-                      std::to_string(refuted + twins_refuted) +
+    const int all_refuted = refuted + twins_refuted + consistent_refuted;
+    if (all_refuted > 0) {
+      verdict.note += "; the whole maps' walls rule out " + std::to_string(all_refuted) +
                       " other alignment(s) scoring nearly as well (" + ruled_out.str() + ")";
     }
     if (!other) return verdict;
@@ -273,21 +312,27 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     // two counts.
     const int other_contradictions =
         std::min(contradictions(other->pose), contradictions(refined(other->pose)));
+    // An alignment overlapping a's map less has fewer points to cross its seen-free space with:
+    // the minimum shrinks with its overlap (east_end's corridors overlapping a quarter of a map
+    // turned round crossed 12-34 points, session 31).
+    const double overlap_share =
+        std::min(1.0, at_other.overlap / std::max(at_candidate.overlap, 1e-9));
     const bool ruled_out_by_walls =
         options_.whole_map_min_contradictions > 0 &&
         candidate_contradictions <= options_.whole_map_max_join_contradictions &&
         (twin || at_other.score <= at_candidate.score) &&
         other_contradictions >=
-            options_.whole_map_min_contradictions +
+            overlap_share * options_.whole_map_min_contradictions +
                 options_.whole_map_contradiction_ratio * candidate_contradictions;
-    // Twins come from the maps' symmetries, not from the search: they do not use up the
-    // alternatives the walls may rule out.
-    if (ruled_out_by_walls && (twin || refuted < options_.whole_map_max_refuted)) {
-      ruled_out << (refuted + twins_refuted > 0 ? "; " : "");
+    // Twins come from the maps' symmetries, and the second search finds many alignments
+    // overlapping little: neither uses up the alternatives the walls may rule out.
+    int& count = twin ? twins_refuted : consistent ? consistent_refuted : refuted;
+    if (ruled_out_by_walls && (twin || count < options_.whole_map_max_refuted)) {
+      ruled_out << (all_refuted > 0 ? "; " : "");
       describe(ruled_out, apart);
       ruled_out << ": " << other_contradictions << " wall points in seen-free space against "
                 << candidate_contradictions;
-      ++(twin ? twins_refuted : refuted);
+      ++count;
       set_aside(other->pose);
       continue;
     }

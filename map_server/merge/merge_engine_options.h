@@ -78,9 +78,12 @@ struct MergeEngineOptions {
   // many points as the join on what the other map observed and scores there at least
   // whole_map_ambiguity of the join's score per overlapping point. The department is 98 %
   // symmetric under a half turn, and two submaps that agree on the map turned round were seen
-  // joining robots 52 m off. 0 turns it off.
+  // joining robots 52 m off. 0 turns it off. whole_map_min_overlap was 0.5 until session 31: an
+  // alignment landing a third of a map as consistently as the join lands all of it is as good
+  // an explanation (department_3robots' true alignment against robot3 joined half-turned; the
+  // issue's no-detection target counts maps overlapping by 30 %).
   double whole_map_ambiguity = 0.85;
-  double whole_map_min_overlap = 0.5;
+  double whole_map_min_overlap = 0.3;
   double whole_map_resolution = 0.2;
   // Such an alternative is ruled out by the maps themselves when, placed there, either map's
   // walls cross space the other map saw free (and away from its walls) at no fewer than
@@ -118,14 +121,26 @@ struct MergeEngineOptions {
   // most whole_map_max_examined are examined, from one search that keeps its frontier
   // (PeakSearch): 16 fresh searches over east_end's maps took 4.6 s, the frontier 0.34 s.
   int whole_map_max_examined = 16;
+  // A second search for alternatives, examined first (up to whole_map_max_examined more),
+  // scores a wall point landing where the other map saw nothing this much instead of 0, so that
+  // it reaches alignments as consistent as the join where the maps overlap but overlapping less
+  // (down to whole_map_min_overlap) before ones that overlap as much and fit worse. Without it,
+  // with local SLAM's local map in 2.5 cm cells, department_3robots' true robot2-robot3
+  // alignment (a third of robot3's map on robot2's) came past the 64th alternative and robot3
+  // was joined 48.9 m / 180 deg off on 2 of 4 seeds (sessions 29-31). Its alternatives may be
+  // ruled out by their walls as the search's are, up to whole_map_max_refuted more; for every
+  // alternative the minimum of wall points shrinks in proportion to its overlap against the
+  // join's (east_end's corridors turned round, a quarter of a map landing, crossed 12-34
+  // points). 0 turns the second search off.
+  double whole_map_unseen_score = 0.5;
   // Alternatives can also be looked for where the search above does not reach them: the join
   // followed by a move under which either part's own map fits itself (map_symmetries.h). The
   // department fits itself turned half round. With local SLAM's local map in 2.5 cm cells
-  // (measured in session 29, not shipped) department_3robots joined robot3 48.9 m / 180 deg off
-  // on 2 of 4 seeds without detections: robot3's map fits robot2's turned round over 98 % of its
-  // points, while the true alignment lands only a third of them on robot2's map and lay past the
-  // 200th alternative by score. Such a twin keeps the join waiting unless the walls rule it out,
-  // whatever its overlap or score: the maps agreeing where they overlap tells nothing in a
+  // (shipped in session 31) and no whole_map_unseen_score, department_3robots joined robot3 48.9 m
+  // / 180 deg off on 2 of 4 seeds without detections: robot3's map fits robot2's turned round over
+  // 98 % of its points, while the true alignment lands only a third of them on robot2's map and lay
+  // past the 200th alternative by score. Such a twin keeps the join waiting unless the walls rule
+  // it out, whatever its overlap or score: the maps agreeing where they overlap tells nothing in a
   // building that looks the same moved (a true join in the twin offices was kept waiting by its
   // twin scoring 0.483 against 0.462 while crossing 50 points against 0). Twins ruled out do not
   // count against whole_map_max_refuted. A move counts when it lands
@@ -136,7 +151,8 @@ struct MergeEngineOptions {
   // kept seed +0's wrong join waiting (its twin was the true alignment) but not seed +3's, where
   // robot1 and robot2's map did not yet fit itself turned round when the wrong join came; and
   // with the moves it finds east_end waits on partial half turns of its corridors (session 30,
-  // docs/BENCHMARKS.md). Kept for measuring (fleetmap-merge-sim-bench --whole-map-symmetries).
+  // docs/BENCHMARKS.md). whole_map_unseen_score's search catches both (session 31). Kept for
+  // measuring (fleetmap-merge-sim-bench --whole-map-symmetries).
   int whole_map_symmetry_max_examined = 0;
   double whole_map_symmetry_min_overlap = 0.25;
   int whole_map_symmetry_max_contradictions = 30;

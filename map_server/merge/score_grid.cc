@@ -8,7 +8,7 @@
 namespace fleetmap {
 
 ScoreGrid::ScoreGrid(const OccupancyGrid& target, const ScoreGridOptions& options)
-    : resolution_(options.resolution) {
+    : resolution_(options.resolution), unknown_score_(options.unknown_score) {
   CellIndex min_cell, max_cell;
   if (!target.KnownBounds(&min_cell, &max_cell)) return;
   const double sigma = options.sigma > 0.0 ? options.sigma : options.resolution;
@@ -68,6 +68,8 @@ ScoreGrid::ScoreGrid(const OccupancyGrid& target, const ScoreGridOptions& option
         values_[i] = static_cast<float>(std::exp(-d * d * inv_two_sigma2));
       } else if (state[i] == -1) {
         values_[i] = options.free_penalty;
+      } else if (state[i] == 0) {
+        values_[i] = unknown_score_;
       }
     }
   }
@@ -101,7 +103,7 @@ float ScoreGridPyramid::Value(int level, int x, int y) const {
   if (level == 0) return base_.Value(x, y);
   const Level& l = levels_[static_cast<size_t>(level)];
   const int ix = x + l.pad, iy = y + l.pad;
-  if (ix < 0 || iy < 0 || ix >= l.width || iy >= l.height) return 0.0f;
+  if (ix < 0 || iy < 0 || ix >= l.width || iy >= l.height) return base_.unknown_score();
   return l.values[static_cast<size_t>(iy) * l.width + ix];
 }
 

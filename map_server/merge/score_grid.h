@@ -19,10 +19,14 @@ struct ScoreGridOptions {
   // A wall point landing in seen-free space far from any wall scores this (<= 0). It is what
   // makes a wrong alignment that pushes walls through corridors lose against the true one.
   float free_penalty = -0.5f;
+  // A wall point landing where the target saw nothing (inside its bounds or beyond) scores
+  // this. 0 for matching: only walls seen by both count. Above 0 it orders a search by how
+  // consistent an alignment is where the maps do overlap, over how much of them overlaps.
+  float unknown_score = 0.0f;
 };
 
 // The scoring surface of the correlative matcher: a dense grid of per-cell scores built from a
-// target occupancy grid, read at integer cells. Unknown space scores 0.
+// target occupancy grid, read at integer cells. Unknown space scores options.unknown_score.
 class ScoreGrid {
  public:
   ScoreGrid() = default;
@@ -34,9 +38,10 @@ class ScoreGrid {
   int height() const { return height_; }
   bool empty() const { return width_ == 0 || height_ == 0; }
   int num_occupied() const { return num_occupied_; }
+  float unknown_score() const { return unknown_score_; }
 
   float Value(int x, int y) const {
-    if (x < 0 || y < 0 || x >= width_ || y >= height_) return 0.0f;
+    if (x < 0 || y < 0 || x >= width_ || y >= height_) return unknown_score_;
     return values_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)];
   }
   // True when the cell was observed (free or occupied) in the target.
@@ -54,6 +59,7 @@ class ScoreGrid {
   int width_ = 0;
   int height_ = 0;
   int num_occupied_ = 0;
+  float unknown_score_ = 0.0f;
   std::vector<float> values_;
   std::vector<uint8_t> known_;
 };

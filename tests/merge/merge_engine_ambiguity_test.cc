@@ -196,53 +196,91 @@ TEST(MergeEngineAmbiguityTest, WithoutCountingWallsSeenThroughTheUnlikeTwinsJoin
   EXPECT_GT((TrueRelative(a, b).inverse() * *rel).translation().norm(), 5.0);
 }
 
-// Robot a drives the turned office's three rooms, then only the office's right room; robot b
-// the office's left and middle rooms. b's map fits a's turned round all over (a saw those rooms
-// turned round), and at the true alignment it overlaps a's map only where a looked into the
-// middle room: it scores too little over b's whole map for the search by score to reach it, yet
-// nothing in the maps tells the two apart. a's map fits itself turned half round (its right
-// rooms), and the turned join moved by that turn is the true alignment: the join must wait.
-std::unique_ptr<MergeEngine> TwinOfTheJoinEngine(int symmetries, SimRobot* a, SimRobot* b) {
+// Robot a drives the turned office's three rooms, then the office's right room and into its
+// middle room up to x = `reach`; robot b the office's left and middle rooms. b's map fits a's
+// turned round all over (a saw those rooms turned round), and at the true alignment it overlaps
+// a's map only where a looked into the middle room: it scores too little over b's whole map for
+// the search by score to reach it, yet nothing in the maps tells the two apart. a's map fits
+// itself turned half round (its right rooms), and the turned join moved by that turn is the true
+// alignment: the join must wait.
+std::unique_ptr<MergeEngine> TwinOfTheJoinEngine(MergeEngineOptions options, SimRobot* a,
+                                                 SimRobot* b, double reach = 14.5) {
   const std::vector<Rigid2d> tour = OfficeTour({{19, 6}});
   std::vector<Rigid2d> a_path = Turned(tour);
   for (const Rigid2d& p : testing::PathThrough(
-           {{21.5, 6}, {18.5, 6}, {18.5, 9}, {14.5, 9}, {18.5, 9}, {18.5, 5}, {14.5, 5}}, 0.25)) {
+           {{21.5, 6}, {18.5, 6}, {18.5, 9}, {14.5, 9}, {18.5, 9}, {18.5, 5}, {reach, 5}}, 0.25)) {
     a_path.push_back(p);
   }
   *a = SimRobot{"a", a_path, Rigid2d(a_path.front().translation(), 0.4)};
   const std::vector<Rigid2d> b_path = testing::PathThrough(
       {{1.5, 5.5}, {3.5, 6}, {5.5, 5.5}, {8, 6}, {10, 6}, {11.5, 9.5}, {11.5, 6}, {8.5, 4}}, 0.25);
   *b = SimRobot{"b", b_path, Rigid2d(b_path.front().translation(), -1.1)};
-  MergeEngineOptions options;
   options.max_global_searches_per_update = 100;
-  options.whole_map_symmetry_max_examined = symmetries;
   auto engine = std::make_unique<MergeEngine>(options);
   Feed(TwinOffices(), *a, engine.get());
   Feed(TwinOffices(), *b, engine.get());
   return engine;
 }
 
-TEST(MergeEngineAmbiguityTest, WithoutTheMapsSymmetriesTheJoinOnTheTwinIsMade) {
-  SimRobot a, b;
-  auto engine = TwinOfTheJoinEngine(/*symmetries=*/0, &a, &b);
+// The search for alternatives by score alone, without the maps' symmetries.
+MergeEngineOptions SearchByScore() {
+  MergeEngineOptions options;
+  options.whole_map_symmetry_max_examined = 0;
+  options.whole_map_unseen_score = 0.0;
+  return options;
+}
+
+void ExpectTheJoinOnTheTwin(MergeEngine* engine, const SimRobot& a, const SimRobot& b) {
   for (int i = 0; i < 5; ++i) engine->Update();
   const auto rel = EstimatedRelative(*engine, "a", "b");
-  ASSERT_TRUE(rel) << "the case the next test is about: a join on the turned twin";
+  ASSERT_TRUE(rel) << "the case the next tests are about: a join on the turned twin";
   EXPECT_GT((TrueRelative(a, b).inverse() * *rel).translation().norm(), 5.0);
 }
 
-TEST(MergeEngineAmbiguityTest, AJoinWaitsOnItsTwinUnderTheMapsOwnSymmetry) {
-  SimRobot a, b;
-  auto engine = TwinOfTheJoinEngine(/*symmetries=*/32, &a, &b);
+// The join waits, and its provenance says why (`why`).
+void ExpectTheJoinToWait(MergeEngine* engine, const std::string& why) {
   bool noted = false;
   for (int i = 0; i < 5; ++i) {
     for (const AlignmentEvent& e : engine->Update().events) {
-      noted |= e.reason.find("moved by a symmetry of one map") != std::string::npos;
+      noted |= e.reason.find(why) != std::string::npos;
       if (e.type == AlignmentEventType::kAlignmentAccepted) ADD_FAILURE() << e.reason;
     }
   }
   EXPECT_FALSE(engine->RobotToGlobal("b"));
   EXPECT_TRUE(noted) << "the provenance says why the join waits";
+}
+
+TEST(MergeEngineAmbiguityTest, WithoutTheMapsSymmetriesTheJoinOnTheTwinIsMade) {
+  SimRobot a, b;
+  auto engine = TwinOfTheJoinEngine(SearchByScore(), &a, &b);
+  ExpectTheJoinOnTheTwin(engine.get(), a, b);
+}
+
+TEST(MergeEngineAmbiguityTest, AJoinWaitsOnItsTwinUnderTheMapsOwnSymmetry) {
+  SimRobot a, b;
+  MergeEngineOptions options = SearchByScore();
+  options.whole_map_symmetry_max_examined = 32;
+  auto engine = TwinOfTheJoinEngine(options, &a, &b);
+  ExpectTheJoinToWait(engine.get(), "moved by a symmetry of one map");
+}
+
+// With a's map reaching further into the middle room, the true alignment lands about half as
+// much of b's map on a's as the join, as consistently. Ordered by score over all of b's points,
+// the search still does not reach it in time.
+TEST(MergeEngineAmbiguityTest, OrderedByScoreTheAlternativesMissAnAlignmentOverlappingLess) {
+  SimRobot a, b;
+  MergeEngineOptions options = SearchByScore();
+  auto engine = TwinOfTheJoinEngine(options, &a, &b, /*reach=*/12.0);
+  ExpectTheJoinOnTheTwin(engine.get(), a, b);
+}
+
+// Scored with unseen space neutral, the search reaches it first, and the join waits.
+TEST(MergeEngineAmbiguityTest, AJoinWaitsOnAnAlignmentAsConsistentWhereTheMapsOverlap) {
+  SimRobot a, b;
+  MergeEngineOptions options = SearchByScore();
+  options.whole_map_unseen_score = 0.5;
+  auto engine = TwinOfTheJoinEngine(options, &a, &b, /*reach=*/12.0);
+  ExpectTheJoinToWait(engine.get(), "ambiguous over the whole maps");
 }
 
 // Robot a passed robot b where b drove in the office: a's map holds b's body at places on b's
