@@ -16,15 +16,10 @@ std::vector<Rigid2d> MapSymmetries(const MatchTarget& target, const MatchSource&
   MatchSource centred = source;
   TransformSource(Rigid2d(-c, 0.0), &centred);
   const Rigid2d identity(c, 0.0);  // the centred map back where it was
-  MatchGates any = options.gates;
-  any.min_score = 0.0;
-  any.min_points = 0;
+  const MatchGates any = WithoutMinimums(options.gates);
   const MatchResult at_identity = target.Evaluate(centred, identity, any);
   if (!(at_identity.overlap_score > 0.0)) return found;
-  SearchWindow window;
-  window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
-  window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());
-  window.angular_half_extent = M_PI;
+  const SearchWindow window = target.Everywhere();
   ExclusionZone zone = options.distinct;
   zone.center = identity;
   // A move scores over all points at least its overlap times its score there.

@@ -131,16 +131,27 @@ double OverlapInlierFraction(const ScoreGrid& grid, const LikelihoodField& field
 
 }  // namespace
 
+MatchGates WithoutMinimums(MatchGates gates) {
+  gates.min_score = 0.0;
+  gates.min_points = 0;
+  return gates;
+}
+
+SearchWindow MatchTarget::Everywhere() const {
+  SearchWindow window;
+  window.center = Rigid2d(0.5 * (min_corner() + max_corner()), 0.0);
+  window.linear_half_extent = 0.5 * (max_corner() - min_corner());
+  window.angular_half_extent = M_PI;
+  return window;
+}
+
 Rigid2d MatchTarget::BestFitNear(const MatchSource& source, const Rigid2d& pose,
                                  const MatchGates& gates) const {
   SearchWindow near;
   near.center = pose;
   near.linear_half_extent = Eigen::Vector2d::Constant(grid_.resolution());
   near.angular_half_extent = 0.01;
-  MatchGates any = gates;
-  any.min_score = 0.0;
-  any.min_points = 0;
-  const MatchResult fit = Match(source, near, any);
+  const MatchResult fit = Match(source, near, WithoutMinimums(gates));
   return fit.found ? fit.pose : pose;
 }
 

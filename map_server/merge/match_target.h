@@ -43,6 +43,9 @@ struct MatchGates {
   bool judge_overlap_only = false;
 };
 
+// The same gates with their minimums (score, points) off: to judge a fit whatever it scores.
+MatchGates WithoutMinimums(MatchGates gates);
+
 // A source map prepared for matching: wall points in the source frame, thinned, each with the
 // side its wall was seen from (unit normal towards free space; zero when seen from both sides).
 struct MatchSource {
@@ -101,6 +104,9 @@ class MatchTarget {
 
   // Scores a given pose without searching (same figures as Match, no ambiguity).
   MatchResult Evaluate(const MatchSource& source, const Rigid2d& pose, const MatchGates& gates) const;
+  // Every pose of a source centred on its centroid whose centroid lands on this target's grid,
+  // at every heading: where to look for a whole map or a submap anywhere on this one.
+  SearchWindow Everywhere() const;
   // The best fit within a cell and 0.01 rad of `pose` (a lattice pose of PeaksOutside can be that
   // far off its peak), whatever it scores; `pose` itself when nothing scores.
   Rigid2d BestFitNear(const MatchSource& source, const Rigid2d& pose,

@@ -192,10 +192,7 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
   // sizeable share of the join's overlap; either way it scores at least
   // min_overlap * whole_map_ambiguity of the join's score over all points.
   const double ratio = options_.whole_map_ambiguity, min_overlap = options_.whole_map_min_overlap;
-  SearchWindow window;
-  window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
-  window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());
-  window.angular_half_extent = M_PI;
+  const SearchWindow window = target.Everywhere();
   ExclusionZone zone = options_.cross_gates.distinct;
   zone.center = candidate;
   PeakSearch alternatives =

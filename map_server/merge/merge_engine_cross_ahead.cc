@@ -21,9 +21,7 @@ MergeEngine::GlobalSearch MergeEngine::PrepareGlobalSearch(const std::string& ro
   search.source = SubmapSource(robot, submap);
   search.centroid = Centroid(search.source.coarse);
   TransformSource(Rigid2d(-search.centroid, 0.0), &search.source);
-  search.window.center = Rigid2d(0.5 * (target.min_corner() + target.max_corner()), 0.0);
-  search.window.linear_half_extent = 0.5 * (target.max_corner() - target.min_corner());
-  search.window.angular_half_extent = M_PI;
+  search.window = target.Everywhere();
   return search;
 }
 
