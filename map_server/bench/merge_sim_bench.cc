@@ -249,6 +249,7 @@ bool Run(const std::string& scenario, const BenchOptions& options, RunResult* re
                   t.front().pose.translation().x(), t.front().pose.translation().y(),
                   t.front().pose.rotation());
     result->lines.push_back(line);
+    result->lines.push_back(HeadingErrorSummary(t, run_truth, i));
   }
   MergeEngine rebuilt(options.engine);
   if (options.settled_rebuild) {

@@ -42,6 +42,44 @@ std::string PoseError(const Rigid2d& estimate, const Rigid2d& truth) {
 
 }  // namespace
 
+std::string HeadingErrorSummary(const Trajectory& trajectory, const RunTruth& known, size_t robot) {
+  if (robot >= known.at_scan.size() || !known.local_in_world[robot]) return "";
+  struct Sample {
+    double time, error;
+    Eigen::Vector2d position;
+  };
+  std::vector<Sample> samples;
+  for (const StampedPose& p : trajectory) {
+    const auto truth = known.at_scan[robot].find(p.timestamp);
+    if (truth == known.at_scan[robot].end()) continue;
+    const Rigid2d estimate = *known.local_in_world[robot] * p.pose;
+    samples.push_back({p.timestamp, NormalizeAngle(estimate.rotation() - truth->second.rotation()),
+                       truth->second.translation()});
+  }
+  if (samples.empty()) return "";
+  double sum_squares = 0.0, largest = 0.0, largest_step = 0.0;
+  const Sample* step_at = &samples.front();
+  size_t earlier = 0;  // the first sample within a second before the current one
+  for (const Sample& s : samples) {
+    sum_squares += s.error * s.error;
+    largest = std::max(largest, std::abs(s.error));
+    while (samples[earlier].time < s.time - 1.0) ++earlier;
+    const double step = std::abs(s.error - samples[earlier].error);
+    if (step > largest_step) {
+      largest_step = step;
+      step_at = &s;
+    }
+  }
+  char text[220];
+  std::snprintf(text, sizeof(text),
+                "  %s local SLAM heading error: rms %.3f deg, max %.3f deg; largest change within "
+                "1 s %.3f deg at %.0f s (%.1f, %.1f)",
+                known.names[robot].c_str(), std::sqrt(sum_squares / samples.size()) * 180.0 / M_PI,
+                largest * 180.0 / M_PI, largest_step * 180.0 / M_PI, step_at->time,
+                step_at->position.x(), step_at->position.y());
+  return text;
+}
+
 void PrintSubmapDiagnosis(const MergeEngine& engine, const std::map<NodeId, Submap>& submaps,
                           const RunTruth& known) {
   const auto ref = std::find(known.names.begin(), known.names.end(), engine.reference_robot());
