@@ -45,6 +45,16 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                   "waits (MergeEngineOptions::whole_map_max_refuted)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_flag("--whole-map-matches", options->whole_map_matches,
+                "merge engine: match parts' whole maps when no submap places them; off by "
+                "default: department_3robots joins robot3 turned round (MergeEngineOptions::"
+                "whole_map_matches)");
+  app->add_option("--whole-map-match-max-refuted", options->whole_map_match_max_refuted,
+                  "merge engine: the same as --whole-map-max-refuted for a join on the whole maps "
+                  "matched "
+                  "(MergeEngineOptions::whole_map_match_max_refuted)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app->add_option("--whole-map-symmetries", options->whole_map_symmetry_max_examined,
                   "merge engine: a join on matches alone also waits on its twins under moves that "
                   "fit either map onto itself; this many such moves are looked for, best first "

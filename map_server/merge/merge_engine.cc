@@ -340,6 +340,7 @@ MergeUpdate MergeEngine::Update() {
   if (ReviewJoins(&update)) ProcessDetections(&update);  // the withdrawn robot's, again
   ReviewMatchHypotheses(&update);  // before new searches: a local check is cheap
   ProcessCrossMatches(&update);
+  ProcessWholeMapMatches(&update);
   ProcessNearbyMatches(&update);
   Solve(&update);
   RefreshCanvases(&update);

@@ -150,12 +150,19 @@ class MergeEngine {
     std::optional<std::string> ambiguity;  // why not; empty when unambiguous
     std::string note;  // for the provenance: the join's own count, what the walls ruled out
   };
+  // `max_refuted`: most alternatives the walls may rule out (MaxRefuted: per kind of join).
   WholeMapVerdict WholeMapAmbiguity(const std::string& root_a, const std::string& root_b,
-                                    const Rigid2d& b_in_a);
+                                    const Rigid2d& b_in_a, int max_refuted);
   WholeMapVerdict SearchWholeMaps(const std::string& root_a, const std::string& root_b,
-                                  const Rigid2d& b_in_a) const;
+                                  const Rigid2d& b_in_a, int max_refuted) const;
+  int MaxRefuted(const Hypothesis& h) const;
   // Where the robots of a component drove (scan positions, its frame).
   std::vector<Eigen::Vector2d> TrailPositions(const std::string& root) const;
+  // merge_engine_whole_map_match.cc
+  OccupancyGrid RenderPart(const std::string& root, double resolution) const;
+  MatchTargetOptions WholeMapMatchOptions() const;
+  std::vector<std::pair<std::string, std::string>> WholeMapMatchesDue() const;
+  void ProcessWholeMapMatches(MergeUpdate* update);
   // merge_engine_loops.cc
   void PlanLoopClosures(std::vector<NearbySearch>* searches);
   void Consider(Hypothesis hypothesis, MergeUpdate* update);
@@ -236,6 +243,8 @@ class MergeEngine {
     WholeMapVerdict answer;
   };
   std::map<std::pair<std::string, std::string>, CachedAmbiguity> ambiguities_;
+  // Finished submaps of both parts when their whole maps were last matched (by sorted roots).
+  std::map<std::pair<std::string, std::string>, int> whole_map_tried_;
   // Each part's own symmetries (map_symmetries.h) at its canvas stamp: many joins are checked
   // against one part's map between two of its changes. Filled by SearchWholeMaps, which only
   // WholeMapAmbiguity calls (never from the search threads).

@@ -68,39 +68,30 @@ std::vector<Eigen::Vector2d> MergeEngine::TrailPositions(const std::string& root
 
 MergeEngine::WholeMapVerdict MergeEngine::WholeMapAmbiguity(const std::string& root_a,
                                                             const std::string& root_b,
-                                                            const Rigid2d& b_in_a) {
+                                                            const Rigid2d& b_in_a,
+                                                            int max_refuted) {
   if (!(options_.whole_map_ambiguity > 0.0)) return {};
   // Many submap matches agree on one alignment; the search is what costs.
-  const std::string stamp = CanvasStamp(root_a) + '|' + CanvasStamp(root_b);
+  const std::string stamp =
+      CanvasStamp(root_a) + '|' + CanvasStamp(root_b) + '|' + std::to_string(max_refuted);
   CachedAmbiguity& cached = ambiguities_[{root_a, root_b}];
   const Rigid2d moved = cached.b_in_a.inverse() * b_in_a;
   if (cached.stamp == stamp && moved.translation().norm() <= options_.agreement_translation &&
       std::abs(NormalizeAngle(moved.rotation())) <= options_.agreement_rotation) {
     return cached.answer;
   }
-  cached = {stamp, b_in_a, SearchWholeMaps(root_a, root_b, b_in_a)};
+  cached = {stamp, b_in_a, SearchWholeMaps(root_a, root_b, b_in_a, max_refuted)};
   return cached.answer;
 }
 
 MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& root_a,
                                                           const std::string& root_b,
-                                                          const Rigid2d& b_in_a) const {
+                                                          const Rigid2d& b_in_a,
+                                                          int max_refuted) const {
   const double resolution = options_.whole_map_resolution;
-  const auto render = [&](const std::string& root) {
-    LogOddsCanvas canvas(resolution);
-    for (const std::string& m : Members(root)) {
-      for (const auto& [id, submap] : robots_.at(m)->submaps) {
-        if (const auto pose = graph_.NodePose({m, id})) canvas.AddSubmap(submap.grid, *pose, 1.0f);
-      }
-    }
-    OccupancyGridOptions grid_options = options_.render_grid;
-    grid_options.resolution = resolution;
-    return canvas.ToGrid(grid_options);
-  };
-  MatchTargetOptions match_options = options_.match;
-  match_options.grid.resolution = resolution;
-  match_options.grid.sigma = 0.0;  // the resolution
-  const OccupancyGrid map_a = render(root_a), map_b = render(root_b);
+  const MatchTargetOptions match_options = WholeMapMatchOptions();
+  const OccupancyGrid map_a = RenderPart(root_a, resolution),
+                      map_b = RenderPart(root_b, resolution);
   const MatchTarget target(map_a, match_options);
   MatchSource source = MakeMatchSource(map_b, Rigid2d(), match_options);
   if (target.empty() || source.coarse.empty()) return {};
@@ -324,7 +315,7 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     // Twins come from the maps' symmetries, and the second search finds many alignments
     // overlapping little: neither uses up the alternatives the walls may rule out.
     int& count = twin ? twins_refuted : consistent ? consistent_refuted : refuted;
-    if (ruled_out_by_walls && (twin || count < options_.whole_map_max_refuted)) {
+    if (ruled_out_by_walls && (twin || count < max_refuted)) {
       ruled_out << (all_refuted > 0 ? "; " : "");
       describe(ruled_out, apart);
       ruled_out << ": " << other_contradictions << " wall points in seen-free space against "

@@ -50,7 +50,7 @@ void MergeEngine::Consider(Hypothesis h, MergeUpdate* update) {
     if (!Agree(h, *it)) continue;
     if (!h.detection && !it->detection) {
       const WholeMapVerdict whole =
-          WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
+          WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h), MaxRefuted(h));
       if (whole.ambiguity) {
         h.event.type = AlignmentEventType::kHypothesis;
         h.event.reason +=
@@ -80,7 +80,7 @@ void MergeEngine::Consider(Hypothesis h, MergeUpdate* update) {
     h.reviewed_at_submaps = FinishedSubmaps(Root(h.robot_a)) + FinishedSubmaps(Root(h.robot_b));
     if (Verify(h, &edges)) {
       const WholeMapVerdict whole =
-          WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
+          WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h), MaxRefuted(h));
       if (!whole.ambiguity) {
         h.event.reason += "; confirmed by matching another submap of " + h.robot_b;
         if (!whole.note.empty()) h.event.reason += "; " + whole.note;
@@ -314,7 +314,8 @@ void MergeEngine::ReviewMatchHypotheses(MergeUpdate* update) {
     std::vector<RelativeEdge> edges;
     const std::string root_a = Root(next->robot_a), root_b = Root(next->robot_b);
     if (!Verify(*next, &edges)) continue;
-    const WholeMapVerdict whole = WholeMapAmbiguity(root_a, root_b, FrameTransform(*next));
+    const WholeMapVerdict whole =
+        WholeMapAmbiguity(root_a, root_b, FrameTransform(*next), MaxRefuted(*next));
     if (whole.ambiguity) continue;
     Hypothesis h = std::move(*next);
     hypotheses_.erase(next);

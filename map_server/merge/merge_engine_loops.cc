@@ -90,7 +90,7 @@ bool MergeEngine::HasPendingWork() const {
       return true;
     }
   }
-  return false;
+  return !WholeMapMatchesDue().empty();
 }
 
 }  // namespace fleetmap

@@ -171,6 +171,28 @@ struct MergeEngineOptions {
   int review_min_new_submaps = 1;
   int max_hypothesis_reviews_per_update = 1;
 
+  // Parts no submap match places are matched whole: b's map over all of a's at every heading, at
+  // whole_map_resolution (merge_engine_whole_map_match.cc). In the building every submap is
+  // ambiguous on its own (plain corridors, rooms like the next), so its robots never merge
+  // without detections. The best alignment needs no second peak below the gate (the whole-map
+  // check judges its alternatives): it becomes a hypothesis, accepted as a submap match is
+  // (confirmed by another submap at the pose it predicts, nothing as good over the whole maps).
+  // Its overlap must reach the issue's 30 %. A pair is matched again once its parts hold
+  // whole_map_match_growth times as many finished submaps (each match costs 0.1-2 s). Such a
+  // join rules out alternatives by their walls up to whole_map_match_max_refuted: the
+  // building's true join rules out 14-19 (its corridors shifted by a room, or turned round).
+  // Off by default: with it, building_2robots merged 4 of 4 seeds without detections (0.010-0.045
+  // m), but department_3robots joined robot3 48.8 m / 180 deg off on 2 of 4 (matched whole when
+  // robot3's map fit the half turn over 98 % of it and the true alignment was not yet an
+  // alternative either search finds; docs/BENCHMARKS.md, issue 8, session 32).
+  bool whole_map_matches = false;
+  int whole_map_match_min_submaps = 3;
+  double whole_map_match_growth = 1.25;
+  int max_whole_map_matches_per_update = 1;
+  int whole_map_match_max_refuted = 32;
+  MatchGates whole_map_match_gates{0.6, 1.0, ExclusionZone{Rigid2d(), 0.5, 0.26}, 0.3, 0.6,
+                                   100, true};
+
   // Work bounds per Update(): global searches are the expensive part.
   int max_global_searches_per_update = 4;
   // A submap not yet joined is searched over another component's map again once that map holds

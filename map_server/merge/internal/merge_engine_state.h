@@ -71,6 +71,7 @@ struct MergeEngine::Hypothesis {
   // For a detection: where robot_b stood in its own local frame at the detection time.
   Eigen::Vector2d observed_in_local = Eigen::Vector2d::Zero();
   std::set<int64_t> submaps_b;
+  bool whole_maps = false;  // from matching the whole maps (merge_engine_whole_map_match.cc)
   RelativeEdge edge;  // the match as a graph edge, once the components are joined
   std::optional<DetectionEdge> detection_edge;
   AlignmentEvent event;
