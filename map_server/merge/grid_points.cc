@@ -1,5 +1,6 @@
 #include "map_server/merge/grid_points.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_set>
 
@@ -74,6 +75,12 @@ Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& points) {
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   for (const Eigen::Vector2d& p : points) sum += p;
   return points.empty() ? sum : Eigen::Vector2d(sum / static_cast<double>(points.size()));
+}
+
+double Radius(const std::vector<Eigen::Vector2d>& points) {
+  double radius = 0.0;
+  for (const Eigen::Vector2d& p : points) radius = std::max(radius, p.norm());
+  return radius;
 }
 
 }  // namespace fleetmap

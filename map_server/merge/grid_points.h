@@ -35,6 +35,8 @@ std::vector<size_t> VoxelFilterIndices(const std::vector<Eigen::Vector2d>& point
 
 // The mean of the points (zero for none).
 Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& points);
+// The largest distance of the points from the origin (zero for none).
+double Radius(const std::vector<Eigen::Vector2d>& points);
 
 }  // namespace fleetmap
 

@@ -296,9 +296,8 @@ void MergeEngine::ProcessDetection(size_t index, MergeUpdate* update, bool* keep
   }
   window.center = Rigid2d(a_robot * d.position_in_observer, heading);
   window.angular_half_extent = heading_half < M_PI ? std::max(heading_half, options_.heading_window_min) : M_PI;
-  double radius = 0.0;
-  for (const Eigen::Vector2d& p : source.coarse) radius = std::max(radius, p.norm());
-  const Box2d box = Grow(Box2d{window.center.translation(), window.center.translation()}, radius + half + 1.0);
+  const Box2d box = Grow(Box2d{window.center.translation(), window.center.translation()},
+                         Radius(source.coarse) + half + 1.0);
   const auto target = CroppedTarget(Root(d.observer_id), "", box);
   const MatchResult r = target->Match(source, window, options_.detection_gates);
   FillEvent(r, &event);

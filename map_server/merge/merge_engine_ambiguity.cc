@@ -203,10 +203,8 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     neutral.grid.unknown_score = static_cast<float>(u);
     unseen_neutral.emplace(map_a, neutral);
     // Overlapping only a part of a's map, b's centroid can lie off it.
-    double radius = 0.0;
-    for (const Eigen::Vector2d& p : source.coarse) radius = std::max(radius, p.norm());
     SearchWindow wider = window;
-    wider.linear_half_extent += Eigen::Vector2d::Constant(radius);
+    wider.linear_half_extent += Eigen::Vector2d::Constant(Radius(source.coarse));
     const double min_score =
         u + min_overlap * at_candidate.overlap * (ratio * at_candidate.overlap_score - u);
     consistent_alternatives.emplace(unseen_neutral->PeaksOutside(source, wider, min_score, {zone}));
