@@ -51,8 +51,7 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                 "whole_map_matches)");
   app->add_option("--whole-map-match-max-refuted", options->whole_map_match_max_refuted,
                   "merge engine: the same as --whole-map-max-refuted for a join on the whole maps "
-                  "matched "
-                  "(MergeEngineOptions::whole_map_match_max_refuted)")
+                  "matched (MergeEngineOptions::whole_map_match_max_refuted)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app->add_option("--whole-map-symmetries", options->whole_map_symmetry_max_examined,
