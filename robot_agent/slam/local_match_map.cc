@@ -91,8 +91,10 @@ void LocalMatchMap::Insert(const std::vector<Eigen::Vector2f>& points_in_robot,
       kept.push_back(points_in_robot[i]);
     }
   }
+  // The grids share their options: the scan is fitted to its walls once for all of them.
+  const MatchGridBatch batch = grids_.front().grid->PrepareScan(kept, seen, robot_in_local);
   for (Entry& entry : grids_) {
-    entry.grid->AddPoints(kept, seen, robot_in_local);
+    entry.grid->Add(batch);
     ++entry.scans;
   }
   if (grids_.size() > 1 && grids_.front().scans >= 2 * options_.scans_per_grid) {

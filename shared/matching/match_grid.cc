@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace fleetmap {
 namespace {
@@ -23,6 +24,7 @@ MatchGrid::MatchGrid(const MatchGridOptions& options)
       max_squared_(static_cast<float>(options.max_distance * options.max_distance)) {
   if (options_.observed_block < 1 || kGrowthBlock % options_.observed_block != 0)
     options_.observed_block = 1;
+  while ((1 << observed_shift_) < options_.observed_block) ++observed_shift_;
 }
 
 MatchGrid MatchGrid::FromLikelihoodField(const LikelihoodField& field, double max_distance) {
@@ -74,7 +76,7 @@ MatchGrid MatchGrid::FromPoints(const std::vector<Eigen::Vector2d>& points,
   for (const Eigen::Vector2d& p : points) {
     if (p.allFinite()) finite.push_back(p);
   }
-  grid.AddBatch(finite, nullptr);
+  grid.Add(grid.Prepare(std::move(finite), nullptr));
   return grid;
 }
 
@@ -109,44 +111,60 @@ void MatchGrid::AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
 void MatchGrid::AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
                           const std::vector<Eigen::Vector2f>& free_ends_in_frame,
                           const Rigid2d& frame_in_map) {
-  const Eigen::Vector2d origin = frame_in_map.translation();
-  AddBatch(ToMap(points_in_frame, frame_in_map), &origin, ToMap(free_ends_in_frame, frame_in_map));
+  Add(PrepareScan(points_in_frame, free_ends_in_frame, frame_in_map));
 }
 
-void MatchGrid::AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d* origin,
-                         const std::vector<Eigen::Vector2d>& free_ends) {
-  const bool trace = options_.track_observed && origin != nullptr && origin->allFinite();
-  if (points.empty() && (!trace || free_ends.empty())) return;
+MatchGridBatch MatchGrid::PrepareScan(const std::vector<Eigen::Vector2f>& points_in_frame,
+                                      const std::vector<Eigen::Vector2f>& free_ends_in_frame,
+                                      const Rigid2d& frame_in_map) const {
+  const Eigen::Vector2d origin = frame_in_map.translation();
+  return Prepare(ToMap(points_in_frame, frame_in_map), &origin,
+                 ToMap(free_ends_in_frame, frame_in_map));
+}
+
+MatchGridBatch MatchGrid::Prepare(std::vector<Eigen::Vector2d> points,
+                                  const Eigen::Vector2d* origin,
+                                  std::vector<Eigen::Vector2d> free_ends) const {
+  MatchGridBatch batch;
+  batch.has_origin = origin != nullptr && origin->allFinite();
+  if (batch.has_origin) batch.origin = *origin;
+  batch.elements = FitSurfaceElements(points, options_.resolution, options_.surface);
+  if (batch.has_origin && options_.join_scan_returns) {
+    for (const SurfaceElement& segment :
+         JoinConsecutiveReturns(points, *origin, options_.scan_segments)) {
+      batch.elements.push_back(segment);
+    }
+  }
+  batch.points = std::move(points);
+  batch.free_ends = std::move(free_ends);
+  return batch;
+}
+
+void MatchGrid::Add(const MatchGridBatch& batch) {
+  const bool trace = options_.track_observed && batch.has_origin;
+  if (batch.points.empty() && (!trace || batch.free_ends.empty())) return;
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = Eigen::Vector2d::Constant(-INFINITY);
   auto include = [&](const Eigen::Vector2d& p) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   };
-  for (const Eigen::Vector2d& p : points) include(p);
+  for (const Eigen::Vector2d& p : batch.points) include(p);
   if (trace) {
-    include(*origin);
-    for (const Eigen::Vector2d& p : free_ends) include(p);
+    include(batch.origin);
+    for (const Eigen::Vector2d& p : batch.free_ends) include(p);
   }
   // Wall pieces reach a little past their points.
   const Eigen::Vector2d reach = Eigen::Vector2d::Constant(options_.surface.max_extent);
   GrowToInclude(lo - reach, hi + reach);
-  for (const SurfaceElement& element : FitSurfaceElements(points, options_.resolution, options_.surface)) {
-    Stamp(element);
-  }
-  if (origin != nullptr && origin->allFinite() && options_.join_scan_returns) {
-    for (const SurfaceElement& segment : JoinConsecutiveReturns(points, *origin, options_.scan_segments)) {
-      Stamp(segment);
-    }
-  }
+  for (const SurfaceElement& element : batch.elements) Stamp(element);
   if (trace) {
-    for (const Eigen::Vector2d& p : points) MarkRay(*origin, p);
-    for (const Eigen::Vector2d& p : free_ends) MarkRay(*origin, p);
+    for (const Eigen::Vector2d& p : batch.points) MarkRay(batch.origin, p);
+    for (const Eigen::Vector2d& p : batch.free_ends) MarkRay(batch.origin, p);
   }
 }
 
 void MatchGrid::MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
-  // Every block the segment crosses, in order (Amanatides-Woo), the point's block included; all
-  // the cells of each.
+  // Every block the segment crosses, in order (Amanatides-Woo), the point's block included.
   const int block = options_.observed_block;
   const double block_size = options_.resolution * block;
   const Eigen::Vector2d a = (from - origin_) / block_size, b = (to - origin_) / block_size;
@@ -160,14 +178,11 @@ void MatchGrid::MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to) 
   double next_x = d.x() != 0.0 ? ((step_x > 0 ? x + 1.0 : x) - a.x()) / d.x() : inf;
   double next_y = d.y() != 0.0 ? ((step_y > 0 ? y + 1.0 : y) - a.y()) / d.y() : inf;
   const int cells = std::abs(end_x - x) + std::abs(end_y - y);
+  const int blocks_x = width_ / block, blocks_y = height_ / block;
   for (int i = 0; i <= cells; ++i) {
-    for (int cy = y * block; cy < (y + 1) * block; ++cy) {
-      for (int cx = x * block; cx < (x + 1) * block; ++cx) {
-        if (cx >= 0 && cy >= 0 && cx < width_ && cy < height_) {
-          observed_[static_cast<size_t>(cy) * static_cast<size_t>(width_) +
-                    static_cast<size_t>(cx)] = 1;
-        }
-      }
+    if (x >= 0 && y >= 0 && x < blocks_x && y < blocks_y) {
+      observed_[static_cast<size_t>(y) * static_cast<size_t>(blocks_x) + static_cast<size_t>(x)] =
+          1;
     }
     if (next_x < next_y) {
       next_x += delta_x;
@@ -237,16 +252,27 @@ void MatchGrid::GrowToInclude(const Eigen::Vector2d& min_point, const Eigen::Vec
   const size_t n = static_cast<size_t>(new_width) * static_cast<size_t>(new_height);
   std::vector<float> squared(n, max_squared_);
   std::vector<uint8_t> has_point(n, 0);
-  std::vector<uint8_t> observed(options_.track_observed ? n : 0, 0);
   for (int y = 0; y < height_; ++y) {
     const size_t src = static_cast<size_t>(y) * static_cast<size_t>(width_);
     const size_t dst = static_cast<size_t>(y - lo.y()) * static_cast<size_t>(new_width) +
                        static_cast<size_t>(-lo.x());
     std::copy_n(squared_.begin() + static_cast<long>(src), width_, squared.begin() + static_cast<long>(dst));
     std::copy_n(has_point_.begin() + static_cast<long>(src), width_, has_point.begin() + static_cast<long>(dst));
-    if (options_.track_observed) {
-      std::copy_n(observed_.begin() + static_cast<long>(src), width_, observed.begin() + static_cast<long>(dst));
-    }
+  }
+  // Seen space in blocks; lo is a multiple of the growth block, so of the block too.
+  const int block = options_.observed_block;
+  const int blocks_x = width_ / block, new_blocks_x = new_width / block;
+  std::vector<uint8_t> observed(
+      options_.track_observed
+          ? static_cast<size_t>(new_blocks_x) * static_cast<size_t>(new_height / block)
+          : 0,
+      0);
+  for (int y = 0; options_.track_observed && y < height_ / block; ++y) {
+    const size_t src = static_cast<size_t>(y) * static_cast<size_t>(blocks_x);
+    const size_t dst = static_cast<size_t>(y - lo.y() / block) * static_cast<size_t>(new_blocks_x) +
+                       static_cast<size_t>(-lo.x() / block);
+    std::copy_n(observed_.begin() + static_cast<long>(src), blocks_x,
+                observed.begin() + static_cast<long>(dst));
   }
   origin_ += r * lo.cast<double>().matrix();
   width_ = new_width;
@@ -267,7 +293,7 @@ void MatchGrid::Stamp(const SurfaceElement& element) {
   if (seen) return;
   seen = 1;
   ++obstacle_count_;
-  // The segment's ends, in grid units; cells within max_distance of it are updated. AddBatch
+  // The segment's ends, in grid units; cells within max_distance of it are updated. Add
   // grew the grid to hold every element (wall pieces reach at most max_extent past their point,
   // joined segments lie between two points of the batch); the box is clipped all the same.
   const Eigen::Vector2d centre(gx, gy);

@@ -45,6 +45,17 @@ struct MatchGridOptions {
   int observed_block = 1;
 };
 
+// A batch of points ready to go into any grid with the same options: in the map frame, fitted to
+// the walls they lie on. Prepared once, it goes into several grids at the cost of stamping only
+// (a rolling local map puts every scan into two).
+struct MatchGridBatch {
+  std::vector<Eigen::Vector2d> points;
+  bool has_origin = false;  // the batch is a scan seen from `origin` (its rays are known)
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+  std::vector<Eigen::Vector2d> free_ends;  // beams that saw nothing up to there
+  std::vector<SurfaceElement> elements;    // the wall pieces and joined returns to stamp
+};
+
 // The target a scan is matched against: for every cell centre, the squared distance (m^2,
 // clamped at max_distance^2) to the nearest obstacle: a short piece of wall where the points of
 // a batch lie on a line, the point itself elsewhere. Squared, because near a wall it is a
@@ -83,6 +94,11 @@ class MatchGrid {
   // to there) mark space as seen without adding obstacles.
   void AddPoints(const std::vector<Eigen::Vector2f>& points_in_frame,
                  const std::vector<Eigen::Vector2f>& free_ends_in_frame, const Rigid2d& frame_in_map);
+  // AddPoints in two steps, for one scan going into several grids with these options.
+  MatchGridBatch PrepareScan(const std::vector<Eigen::Vector2f>& points_in_frame,
+                             const std::vector<Eigen::Vector2f>& free_ends_in_frame,
+                             const Rigid2d& frame_in_map) const;
+  void Add(const MatchGridBatch& batch);
 
   double max_squared_distance() const { return options_.max_distance * options_.max_distance; }
   // Squared distance at a cell centre; max_distance^2 outside the grid.
@@ -101,7 +117,9 @@ class MatchGrid {
   bool CellObserved(int x, int y) const {
     if (!options_.track_observed) return true;
     if (x < 0 || y < 0 || x >= width_ || y >= height_) return false;
-    return observed_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)] != 0;
+    return observed_[static_cast<size_t>(y >> observed_shift_) *
+                         static_cast<size_t>(width_ >> observed_shift_) +
+                     static_cast<size_t>(x >> observed_shift_)] != 0;
   }
   // Whether any scan saw the cell holding `point` (true when not tracked).
   bool Observed(const Eigen::Vector2d& point) const;
@@ -119,10 +137,9 @@ class MatchGrid {
 
  private:
   void GrowToInclude(const Eigen::Vector2d& min, const Eigen::Vector2d& max);
-  // Fits the batch to its walls and stamps every element (grows the grid first). With
-  // track_observed, also marks the rays from `origin` to the points as seen.
-  void AddBatch(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d* origin,
-                const std::vector<Eigen::Vector2d>& free_ends = {});
+  // Fits the points (map frame) to their walls; with an origin, also joins consecutive returns.
+  MatchGridBatch Prepare(std::vector<Eigen::Vector2d> points, const Eigen::Vector2d* origin,
+                         std::vector<Eigen::Vector2d> free_ends = {}) const;
   void MarkRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to);
   void Stamp(const SurfaceElement& element);
 
@@ -134,7 +151,10 @@ class MatchGrid {
   float max_squared_ = 0.0f;
   std::vector<float> squared_;
   std::vector<uint8_t> has_point_;  // 1 where a cell already holds an obstacle point
-  std::vector<uint8_t> observed_;   // 1 where a scan saw the cell (track_observed only)
+  // 1 where a scan saw the block of observed_block x observed_block cells (track_observed only;
+  // blocks divide the 64-cell growth blocks, so the grid holds whole blocks, and are powers of 2).
+  std::vector<uint8_t> observed_;
+  int observed_shift_ = 0;  // log2(observed_block)
 };
 
 }  // namespace fleetmap

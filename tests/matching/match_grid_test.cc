@@ -182,6 +182,61 @@ TEST(MatchGridTest, SeenSpaceInBlocksIsACoarserGridsSeenSpace) {
   EXPECT_EQ(disagree, 0);
 }
 
+// A scan prepared once goes into grids that already hold different scans (so have different
+// extents) as AddPoints would put it; seen space in blocks survives the growth it causes.
+TEST(MatchGridTest, APreparedScanGoesIntoEveryGridAsAddPointsPutsIt) {
+  MatchGridOptions options = MatchGridOptions();
+  options.resolution = 0.025;
+  options.track_observed = true;
+  options.observed_block = 2;
+  std::vector<Eigen::Vector2f> room;  // a 4 x 3 m room seen from its centre
+  for (int degree = 0; degree < 360; degree += 2) {
+    const double a = degree * M_PI / 180.0, c = std::cos(a), s = std::sin(a);
+    const double range =
+        std::min(2.0 / std::max(std::abs(c), 1e-9), 1.5 / std::max(std::abs(s), 1e-9));
+    room.emplace_back(static_cast<float>(range * c), static_cast<float>(range * s));
+  }
+  const std::vector<Eigen::Vector2f> far_ends = {Eigen::Vector2f(6.0f, 0.5f)};
+  const Rigid2d first(0.0, 0.0, 0.0), second(-5.0, -4.0, 0.7);  // grows down and left
+  MatchGrid direct(options), prepared(options), fresh(options);
+  direct.AddPoints(room, first);
+  prepared.AddPoints(room, first);
+  const MatchGrid before_growth = direct;
+  direct.AddPoints(room, far_ends, second);
+  const MatchGridBatch batch = prepared.PrepareScan(room, far_ends, second);
+  prepared.Add(batch);
+  fresh.Add(batch);
+  ASSERT_EQ(direct.width(), prepared.width());
+  ASSERT_EQ(direct.height(), prepared.height());
+  EXPECT_NE(direct.width(), fresh.width());
+  EXPECT_EQ(direct.squared_distances(), prepared.squared_distances());
+  int seen = 0, seen_before = 0, differ = 0, fresh_differ = 0, moved = 0;
+  for (double x = -12.0; x <= 3.0; x += 0.013) {
+    for (double y = -8.0; y <= 3.0; y += 0.013) {
+      const Eigen::Vector2d p(x, y);
+      seen += direct.Observed(p);
+      differ += direct.Observed(p) != prepared.Observed(p) ||
+                direct.SeenFree(p, 0.08) != prepared.SeenFree(p, 0.08);
+      // The fresh grid holds the second scan only; inside that room it reads as the others.
+      // The first room's seen space stays where it was when the grid grew.
+      seen_before += before_growth.Observed(p);
+      moved += before_growth.Observed(p) && !direct.Observed(p);
+      const Eigen::Vector2d in_second = second.inverse() * p;
+      if (std::abs(in_second.x()) < 1.9 && std::abs(in_second.y()) < 1.4) {
+        // Up to rounding: the grids' origins differ.
+        fresh_differ += std::abs(direct.SquaredDistance(p) - fresh.SquaredDistance(p)) > 1e-7 ||
+                        direct.Observed(p) != fresh.Observed(p);
+      }
+    }
+  }
+  EXPECT_GT(seen, 100000);
+  EXPECT_EQ(differ, 0);
+  EXPECT_EQ(fresh_differ, 0);
+  EXPECT_GT(seen_before, 20000);
+  EXPECT_EQ(moved, 0);
+  EXPECT_LT(before_growth.width(), direct.width());
+}
+
 TEST(MatchGridTest, GrowingKeepsEarlierPoints) {
   MatchGrid grid;
   grid.AddPoint(Eigen::Vector2d(0.0, 0.0));
