@@ -34,9 +34,12 @@ struct DensityUpdateOptions {
   double lost_belief_floor_probability = 0.5;
   double lost_floor_max_spread = 0.3;
   // A detection confirms a globally localizing belief (and clears the flag) when the old
-  // particles carry more than this share of the updated weight, i.e. the belief already agreed
-  // with the detection. A belief that disagreed stays suspect for the next detection.
+  // particles carry more than this share of the updated weight by agreeing with it, i.e. the
+  // belief already agreed with the detection, and the estimate after the update lies within
+  // confirmation_distance (metres) of where the detection puts the robot. A belief that
+  // disagreed stays suspect for the next detection.
   double confirmation_share = 0.5;
+  double confirmation_distance = 0.5;
 };
 
 // Observed side of eq. 15: multiplies the belief of `mcl` by `density` and resamples. Uses a
@@ -49,14 +52,27 @@ bool ApplyPoseDensity(const PoseDensity& density, const DensityUpdateOptions& op
 // Rate limit against double counting: the same pair (observer, observed) may feed one update per
 // `min_interval` seconds, since consecutive detections of a pair share almost all their
 // information (the same two beliefs). Pure bookkeeping; the caller passes the times.
+//
+// An observed robot still globally localizing (Mcl::globally_localizing()) may take one per
+// `lost_min_interval` instead: a detection without a relative heading leaves its belief at the
+// right place with every heading, and in a corridor the laser cannot tell a heading from its
+// opposite; the next detection, a moment later, finds the robot where it drove, which the
+// particles headed the wrong way did not (half a second at walking pace puts them half a metre
+// off). With 2 s, 6 of 150 simulated lost robots waited 2-4 s for it (docs/BENCHMARKS.md, issue
+// 10). Once a detection confirms its belief, the robot is no longer globally localizing and
+// min_interval holds again.
 class DetectionGate {
  public:
-  explicit DetectionGate(double min_interval = 2.0) : min_interval_(min_interval) {}
-  // True (and records the use) when the pair may be used at `timestamp`.
-  bool Allow(const std::string& observer_id, const std::string& observed_id, double timestamp);
+  explicit DetectionGate(double min_interval = 2.0, double lost_min_interval = 0.5)
+      : min_interval_(min_interval), lost_min_interval_(lost_min_interval) {}
+  // True (and records the use) when the pair may be used at `timestamp`; `observed_lost`: the
+  // observed robot is globally localizing.
+  bool Allow(const std::string& observer_id, const std::string& observed_id, double timestamp,
+             bool observed_lost = false);
 
  private:
   double min_interval_;
+  double lost_min_interval_;
   std::map<std::pair<std::string, std::string>, double> last_use_;
 };
 

@@ -189,5 +189,14 @@ TEST(DetectionGateTest, RateLimitsEachPair) {
   EXPECT_TRUE(gate.Allow("b", "a", 12.5));
 }
 
+TEST(DetectionGateTest, ARobotStillGloballyLocalizingTakesDetectionsSooner) {
+  DetectionGate gate(2.0, 0.5);
+  EXPECT_TRUE(gate.Allow("b", "a", 10.0, /*observed_lost=*/true));
+  EXPECT_FALSE(gate.Allow("b", "a", 10.3, true));
+  EXPECT_TRUE(gate.Allow("b", "a", 10.5, true));
+  EXPECT_FALSE(gate.Allow("b", "a", 11.0, false));  // confirmed: the pair's interval again
+  EXPECT_TRUE(gate.Allow("b", "a", 12.5, false));
+}
+
 }  // namespace
 }  // namespace fleetmap

@@ -59,6 +59,35 @@ TEST(SimLocalizationTest, DetectionLocalizesTheLostRobot) {
   EXPECT_LE(result.robots[1].time_localized, 1.0);
 }
 
+// A run of `fleetmap-localize sim --seed 201` (run 36) where robot1 sat on a look-alike place
+// 45 m off when the first detection came: the detection was taken as confirming that belief,
+// and robot1 waited 4.4 s for the next one (with 2 s between detections of a pair).
+TEST(SimLocalizationTest, ALostRobotOnALookAlikePlaceIsLocalizedByTheFirstDetections) {
+  sim::Scenario scenario;
+  std::string error;
+  ASSERT_TRUE(sim::LoadScenario(
+      testing::SourceDir() + "/robot_agent/localization/scenarios/department_fig22.yaml", &scenario,
+      &error))
+      << error;
+  scenario.seed += 36;
+  sim::World world;
+  ASSERT_TRUE(sim::LoadWorld(scenario.world_path, &world, &error)) << error;
+  OccupancyGrid map;
+  ASSERT_TRUE(LoadWorldMap(scenario.world_path, &map, &error)) << error;
+
+  SimLocalizationOptions options;
+  options.seed = 201 + 36;
+  options.max_time = 16.0;
+  options.hold_time = 3.0;
+  SimRunResult result;
+  ASSERT_TRUE(RunSimLocalization(scenario, world, map, options, &result, &error)) << error;
+  ASSERT_GE(result.first_detection_time, 0.0);
+  const SimRobotResult& lost = result.robots[0];
+  ASSERT_GE(lost.time_localized, 0.0);
+  EXPECT_LE(lost.time_localized, result.first_detection_time + 2.0);
+  EXPECT_TRUE(lost.localized_at_end);
+}
+
 TEST(SimLocalizationTest, RejectsABadLostRobotIndex) {
   sim::Scenario scenario;
   std::string error;

@@ -133,6 +133,13 @@ int main(int argc, char** argv) {
   mrclam->add_option("--max-injection", options.mcl.recovery.max_injection_fraction,
                      "Augmented MCL: most random particles per resampling (0 = off)")
       ->capture_default_str();
+  mrclam
+      ->add_option("--lost-detection-interval", options.lost_detection_interval,
+                   "Seconds between detections used per robot pair while the observed robot is "
+                   "globally localizing "
+                   "(otherwise 2 s)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   mrclam->add_option("--sigma-range", options.landmarks.sigma_range)->capture_default_str();
   mrclam->add_option("--sigma-bearing", options.landmarks.sigma_bearing)->capture_default_str();
   mrclam->add_option("--plot", plot_prefix, "Write <prefix>_<mode>.png plots of error vs time");
@@ -172,6 +179,11 @@ int main(int argc, char** argv) {
   sim->add_option("--detection-interval", sim_loc.detection_interval,
                   "Seconds between detections used per robot pair (DetectionGate)")
       ->capture_default_str();
+  sim->add_option("--lost-detection-interval", sim_loc.lost_detection_interval,
+                  "The same while the observed robot is globally localizing (its belief not yet "
+                  "confirmed by a detection)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   sim->add_option("--lost-floor", sim_loc.density.lost_belief_floor_probability,
                   "Belief floor of a globally localizing robot in the detection update")
       ->capture_default_str();

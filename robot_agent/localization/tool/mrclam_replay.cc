@@ -64,7 +64,7 @@ ReplayResult ReplayMrclam(const MrclamDataset& dataset, const LocalizationReplay
   }
   if (robot_count == 0 || steps == SIZE_MAX) return result;
 
-  DetectionGate gate(options.detection_interval);
+  DetectionGate gate(options.detection_interval, options.lost_detection_interval);
   std::vector<Rigid2d> pending(robot_count);
   std::vector<size_t> next_measurement(robot_count, 0);
   std::vector<double> heading_error_sum(robot_count, 0.0);
@@ -116,7 +116,10 @@ ReplayResult ReplayMrclam(const MrclamDataset& dataset, const LocalizationReplay
       const auto density =
           SummarizeDetection(filters[observer]->particles(), detection, options.summary,
                              filters[observer]->rng());
-      if (!density || !gate.Allow(detection.observer_id, detection.observed_id, t)) continue;
+      if (!density || !gate.Allow(detection.observer_id, detection.observed_id, t,
+                                  filters[observed]->globally_localizing())) {
+        continue;
+      }
       if (ApplyPoseDensity(*density, options.density, filters[observed].get())) {
         ++result.robots[observer].detections_used;
       }

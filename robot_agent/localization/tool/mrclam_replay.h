@@ -24,6 +24,7 @@ struct LocalizationReplayOptions {
   double sample_interval = 1.0;   // seconds between error samples
   double max_time = 0.0;          // 0 = the whole log
   double detection_interval = 2.0;  // per observer/observed pair (DetectionGate)
+  double lost_detection_interval = 0.5;  // ... when the observed robot is globally localizing
   // A converged estimate within this distance of the truth counts as localized.
   double converged_error = 0.3;
   LandmarkModelOptions landmarks;

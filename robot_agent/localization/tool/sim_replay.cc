@@ -117,7 +117,7 @@ bool RunSimLocalization(const sim::Scenario& scenario, const sim::World& world,
   }
 
   std::mt19937 detection_rng(options.seed * 31u + 7u);
-  DetectionGate gate(options.detection_interval);
+  DetectionGate gate(options.detection_interval, options.lost_detection_interval);
   std::vector<std::optional<Rigid2d>> last_odometry(robot_count);
   while (!simulation->Done()) {
     const sim::StepResult step = simulation->Step();
@@ -156,12 +156,12 @@ bool RunSimLocalization(const sim::Scenario& scenario, const sim::World& world,
       Mcl& observer = *filters[static_cast<size_t>(record.observer)];
       const auto density =
           SummarizeDetection(observer.particles(), detection, options.summary, observer.rng());
-      if (!density || !gate.Allow(detection.observer_id, detection.observed_id,
-                                  record.timestamp)) {
+      Mcl& observed = *filters[static_cast<size_t>(record.observed)];
+      if (!density || !gate.Allow(detection.observer_id, detection.observed_id, record.timestamp,
+                                  observed.globally_localizing())) {
         continue;
       }
-      if (ApplyPoseDensity(*density, options.density,
-                           filters[static_cast<size_t>(record.observed)].get())) {
+      if (ApplyPoseDensity(*density, options.density, &observed)) {
         ++result->detections_used;
         if (record.observed == options.lost_robot && result->first_detection_time < 0.0) {
           result->first_detection_time = record.timestamp;

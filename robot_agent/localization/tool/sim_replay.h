@@ -43,6 +43,7 @@ struct SimLocalizationOptions {
   double bearing_std = 0.1 * M_PI / 180.0;
   double relative_heading_std = 0.2 * M_PI / 180.0;
   double detection_interval = 2.0;  // DetectionGate, per ordered pair
+  double lost_detection_interval = 0.5;  // ... when the observed robot is globally localizing
   // "Localized": the clustered estimate within these of the truth ...
   double position_tolerance = 0.2;
   double heading_tolerance = 5.0 * M_PI / 180.0;
