@@ -179,7 +179,11 @@ bool RunSlam(const SlamLog& log, LocalSlam* slam, SlamRunResult* result, std::st
       *error = "scan at line " + std::to_string(log.scan_lines[i]) + ": " + *error;
       return false;
     }
-    if (i % 64 == 0) collect();
+    // Not after every scan: each graph optimisation moves every finished submap, and each
+    // collection packs those it finds moved. Every 1,024 scans (not 64) several optimisations
+    // fold into one repacking: intel 24.8 -> 22.7 s, the same map and trajectory
+    // (docs/BENCHMARKS.md, issue 4, session 34).
+    if (i % 1024 == 0) collect();
     if (progress && (i + 1) % report_every == 0 && i + 1 < total) progress(i + 1, total);
   }
   // Every scan is in; the backend's last work (a final loop closure: ~10 s on intel with the
