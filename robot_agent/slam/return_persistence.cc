@@ -19,7 +19,11 @@ double SegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const
 ReturnPersistence::ReturnPersistence(const ReturnPersistenceOptions& options) : options_(options) {}
 
 uint64_t ReturnPersistence::Key(int64_t x, int64_t y) {
-  return (static_cast<uint64_t>(static_cast<uint32_t>(x)) << 32) | static_cast<uint32_t>(y);
+  // Offset so that the order of keys follows x, then y, across 0.
+  const auto biased = [](int64_t v) {
+    return static_cast<uint32_t>(static_cast<uint64_t>(v) + (uint64_t{1} << 31));
+  };
+  return (static_cast<uint64_t>(biased(x)) << 32) | biased(y);
 }
 
 double ReturnPersistence::Distance(const Eigen::Vector2d& point) const {
@@ -27,11 +31,13 @@ double ReturnPersistence::Distance(const Eigen::Vector2d& point) const {
   const int64_t cx = static_cast<int64_t>(std::floor(point.x() / cell));
   const int64_t cy = static_cast<int64_t>(std::floor(point.y() / cell));
   double best = std::numeric_limits<double>::infinity();
-  for (int64_t dy = -1; dy <= 1; ++dy) {
-    for (int64_t dx = -1; dx <= 1; ++dx) {
-      const auto it = buckets_.find(Key(cx + dx, cy + dy));
-      if (it == buckets_.end()) continue;
-      for (uint32_t s : it->second) best = std::min(best, SegmentDistance(point, segments_[s].a, segments_[s].b));
+  for (int64_t dx = -1; dx <= 1; ++dx) {
+    const uint64_t last = Key(cx + dx, cy + 1);
+    auto it = std::lower_bound(cells_.begin(), cells_.end(),
+                               std::make_pair(Key(cx + dx, cy - 1), uint32_t{0}));
+    for (; it != cells_.end() && it->first <= last; ++it) {
+      const Segment& s = segments_[it->second];
+      best = std::min(best, SegmentDistance(point, s.a, s.b));
     }
   }
   return best;
@@ -40,8 +46,7 @@ double ReturnPersistence::Distance(const Eigen::Vector2d& point) const {
 void ReturnPersistence::Add(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   const uint32_t index = static_cast<uint32_t>(segments_.size());
   segments_.push_back({a, b});
-  // In the bucket of every point along it, one bucket apart at most, which is where Distance
-  // looks.
+  // In the cell of every point along it, one cell apart at most, which is where Distance looks.
   const double cell = options_.max_join;
   const int steps = static_cast<int>(std::ceil((b - a).norm() / cell));
   uint64_t last = 0;
@@ -49,8 +54,7 @@ void ReturnPersistence::Add(const Eigen::Vector2d& a, const Eigen::Vector2d& b) 
     const Eigen::Vector2d p = a + (b - a) * (steps > 0 ? static_cast<double>(k) / steps : 0.0);
     const uint64_t key = Key(static_cast<int64_t>(std::floor(p.x() / cell)), static_cast<int64_t>(std::floor(p.y() / cell)));
     if (k > 0 && key == last) continue;
-    std::vector<uint32_t>& bucket = buckets_[key];
-    if (bucket.empty() || bucket.back() != index) bucket.push_back(index);
+    cells_.emplace_back(key, index);
     last = key;
   }
 }
@@ -73,7 +77,7 @@ std::vector<bool> ReturnPersistence::Observe(const std::vector<Eigen::Vector2d>&
   // This scan's surface, for the next: each return, joined to the next one when they are close
   // or on one surface.
   segments_.clear();
-  buckets_.clear();
+  cells_.clear();
   std::vector<Eigen::Vector2d> finite;
   finite.reserve(points.size());
   for (const Eigen::Vector2d& p : points) {
@@ -86,6 +90,7 @@ std::vector<bool> ReturnPersistence::Observe(const std::vector<Eigen::Vector2d>&
   for (const SurfaceElement& joined : JoinConsecutiveReturns(finite, origin, options_.segments)) {
     Add(joined.centre - joined.extent_minus * joined.tangent, joined.centre + joined.extent_plus * joined.tangent);
   }
+  std::sort(cells_.begin(), cells_.end());
   return persisted;
 }
 

@@ -1,11 +1,10 @@
 #ifndef FLEETMAP_ROBOT_AGENT_SLAM_RETURN_PERSISTENCE_H_
 #define FLEETMAP_ROBOT_AGENT_SLAM_RETURN_PERSISTENCE_H_
 
-#include <cstdint>
-#include <unordered_map>
-#include <vector>
-
 #include <Eigen/Core>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "shared/matching/scan_segments.h"
 
@@ -54,8 +53,11 @@ class ReturnPersistence {
 
   ReturnPersistenceOptions options_;
   bool first_call_ = true;
-  std::vector<Segment> segments_;                               // the previous scan's surface
-  std::unordered_map<uint64_t, std::vector<uint32_t>> buckets_;  // cells of max_join -> segments
+  std::vector<Segment> segments_;  // the previous scan's surface
+  // (cell of max_join, segment) for every cell a segment passes, sorted: a cell's neighbours in
+  // y are neighbours in this order, so a 3 x 3 block is three ranges (a hash map of buckets,
+  // rebuilt for every scan, took 6 % of intel's run).
+  std::vector<std::pair<uint64_t, uint32_t>> cells_;
 };
 
 }  // namespace fleetmap
