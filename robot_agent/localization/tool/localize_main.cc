@@ -136,8 +136,7 @@ int main(int argc, char** argv) {
   mrclam
       ->add_option("--lost-detection-interval", options.lost_detection_interval,
                    "Seconds between detections used per robot pair while the observed robot is "
-                   "globally localizing "
-                   "(otherwise 2 s)")
+                   "globally localizing (otherwise 2 s)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   mrclam->add_option("--sigma-range", options.landmarks.sigma_range)->capture_default_str();
