@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
                    "Seconds between detections used per robot pair while the observed robot is "
                    "globally localizing (otherwise 2 s)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0.0, 3600.0));
   mrclam->add_option("--sigma-range", options.landmarks.sigma_range)->capture_default_str();
   mrclam->add_option("--sigma-bearing", options.landmarks.sigma_bearing)->capture_default_str();
   mrclam->add_option("--plot", plot_prefix, "Write <prefix>_<mode>.png plots of error vs time");
@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
                   "The same while the observed robot is globally localizing (its belief not yet "
                   "confirmed by a detection)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0.0, 3600.0));
   sim->add_option("--lost-floor", sim_loc.density.lost_belief_floor_probability,
                   "Belief floor of a globally localizing robot in the detection update")
       ->capture_default_str();
