@@ -1,10 +1,11 @@
 #ifndef FLEETMAP_ROBOT_AGENT_SLAM_RETURN_PERSISTENCE_H_
 #define FLEETMAP_ROBOT_AGENT_SLAM_RETURN_PERSISTENCE_H_
 
-#include <Eigen/Core>
 #include <cstdint>
 #include <utility>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "shared/matching/scan_segments.h"
 
