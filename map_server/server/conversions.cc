@@ -65,6 +65,7 @@ Status FromProto(const v1::RegisterRobotRequest& request, double now, RobotRecor
     if (!Finite(request.local_in_global())) return Invalid("local_in_global is not finite");
     robot->local_in_global = FromProto(request.local_in_global());
   }
+  robot->localization_only = request.localization_only();
   return Status::OK;
 }
 

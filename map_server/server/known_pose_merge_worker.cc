@@ -187,7 +187,9 @@ void KnownPoseMergeWorker::RefreshPlacements() {
     RobotPlacementRecord p;
     p.robot_id = id;
     p.placed = robot.local_in_global.has_value();
-    if (p.placed) {
+    if (robot.localization_only) {
+      p = LocalizationPlacement(robot);
+    } else if (p.placed) {
       p.local_in_global = *robot.local_in_global;
       p.start_in_global = *robot.local_in_global;  // held there: no drift to follow
       p.source = "registration";

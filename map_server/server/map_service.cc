@@ -19,9 +19,10 @@ MapServiceOptions WithDefaults(MapServiceOptions options) {
   return options;
 }
 
-// Checks that a batch names a registered robot and has an acceptable number of items.
+// Checks that a batch names a registered robot and has an acceptable number of items; fills
+// `robot` with its record when given.
 Status CheckBatch(MapStore* store, const std::string& robot_id, const char* field, int items,
-                  int max_items) {
+                  int max_items, RobotRecord* robot = nullptr) {
   Status status = ValidateRobotId(robot_id, field);
   if (!status.ok()) return status;
   if (items == 0) return Status(StatusCode::INVALID_ARGUMENT, "the request has no items");
@@ -30,10 +31,12 @@ Status CheckBatch(MapStore* store, const std::string& robot_id, const char* fiel
                   std::to_string(items) + " items exceed the limit of " +
                       std::to_string(max_items) + " per request; send smaller batches");
   }
-  if (!store->GetRobot(robot_id)) {
+  const std::optional<RobotRecord> record = store->GetRobot(robot_id);
+  if (!record) {
     return Status(StatusCode::NOT_FOUND,
                   "unknown robot \"" + robot_id + "\": call RegisterRobot first");
   }
+  if (robot) *robot = *record;
   return Status::OK;
 }
 
@@ -65,9 +68,16 @@ Status MapServiceImpl::RegisterRobot(grpc::ServerContext* /*context*/,
 Status MapServiceImpl::UploadSubmaps(grpc::ServerContext* /*context*/,
                                      const v1::UploadSubmapsRequest* request,
                                      v1::UploadSubmapsResponse* response) {
+  RobotRecord robot;
   Status status = CheckBatch(store_, request->robot_id(), "robot_id", request->submaps_size(),
-                             options_.limits.max_submaps_per_request);
+                             options_.limits.max_submaps_per_request, &robot);
   if (!status.ok()) return status;
+  if (robot.localization_only) {
+    return Status(StatusCode::FAILED_PRECONDITION,
+                  "robot \"" + robot.robot_id +
+                      "\" is registered for localization only (it localizes in a known map) and "
+                      "sends no submaps; register it again without localization_only to map");
+  }
   for (const v1::SubmapUpload& upload : request->submaps()) {
     v1::ItemAck* ack = response->add_acks();
     ack->set_id(upload.submap_id());

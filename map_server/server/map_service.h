@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "map_server/server/conversions.h"
+#include "map_server/server/density_relay.h"
 #include "map_server/server/merge_worker.h"
 #include "map_server/server/version_feed.h"
 #include "map_server/store/map_store.h"
@@ -49,6 +50,12 @@ class MapServiceImpl final : public v1::MapService::Service {
   grpc::Status SubscribeMapUpdates(grpc::ServerContext* context,
                                    const v1::SubscribeMapUpdatesRequest* request,
                                    grpc::ServerWriter<v1::MapUpdate>* writer) override;
+  // Collaborative localization (map_service_densities.cc).
+  grpc::Status SendPoseDensity(grpc::ServerContext* context, const v1::PoseDensity* request,
+                               v1::SendPoseDensityResponse* response) override;
+  grpc::Status SubscribePoseDensities(grpc::ServerContext* context,
+                                      const v1::SubscribePoseDensitiesRequest* request,
+                                      grpc::ServerWriter<v1::PoseDensity>* writer) override;
 
  private:
   double Now() const { return options_.clock(); }
@@ -60,6 +67,7 @@ class MapServiceImpl final : public v1::MapService::Service {
   MapStore* const store_;
   MergeWorker* const worker_;
   VersionFeed* const feed_;
+  DensityRelay densities_;
 };
 
 }  // namespace fleetmap

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "map_server/server/merge_worker.h"
+
 namespace fleetmap {
 namespace {
 
@@ -80,7 +82,9 @@ std::vector<RobotPlacementRecord> MakePlacements(
     const auto it = status.find(id);
     const RobotMergeStatus none;
     const RobotMergeStatus& s = it == status.end() ? none : it->second;
-    if (const std::optional<Rigid2d> local_in_global = engine.RobotToGlobal(id)) {
+    if (robot.localization_only) {
+      p = LocalizationPlacement(robot);
+    } else if (const std::optional<Rigid2d> local_in_global = engine.RobotToGlobal(id)) {
       p.placed = true;
       p.local_in_global = *local_in_global;
       p.start_in_global = engine.RobotStartToGlobal(id);

@@ -150,7 +150,13 @@ void MergeEngineWorker::ApplyRobot(const std::string& robot_id) {
   robots_[robot_id] = *robot;
   trigger_robots_.insert(robot_id);
   if (trigger_.empty()) trigger_ = "robot registered";
-  if (robot->local_in_global) {
+  // A robot localizing in a known map is not merged: it is where its poses say (placements).
+  if (robot->localization_only) {
+    if (known_before || engine_->RobotToGlobal(robot_id)) {
+      Rebuild("robot re-registered for localization only: rebuilt from the store");
+      return;
+    }
+  } else if (robot->local_in_global) {
     const bool same = known_before &&
                       old->second.local_in_global->translation() ==
                           robot->local_in_global->translation() &&
@@ -187,6 +193,10 @@ void MergeEngineWorker::ApplySubmap(const StoredSubmap& stored) {
 }
 
 void MergeEngineWorker::ApplyTrajectory(const std::string& robot_id) {
+  if (const auto robot = robots_.find(robot_id);
+      robot != robots_.end() && robot->second.localization_only) {
+    return;  // not merged; its poses are already in the global frame
+  }
   const std::optional<TrajectoryRecord> trajectory = store_->LatestTrajectory(robot_id);
   if (!trajectory) return;
   int64_t& known = trajectory_revisions_[robot_id];
@@ -230,7 +240,9 @@ void MergeEngineWorker::Rebuild(const std::string& trigger) {
   status_.clear();
   for (const RobotRecord& robot : store_->ListRobots()) {
     robots_[robot.robot_id] = robot;
-    if (robot.local_in_global) engine_->SetKnownPlacement(robot.robot_id, *robot.local_in_global);
+    if (robot.local_in_global && !robot.localization_only) {
+      engine_->SetKnownPlacement(robot.robot_id, *robot.local_in_global);
+    }
   }
   // In ingest order, so the same robot defines the global frame as before the restart.
   std::vector<StoredSubmap> submaps = store_->LatestSubmaps("");

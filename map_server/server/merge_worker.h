@@ -41,6 +41,20 @@ class MergeWorker {
   virtual std::vector<RobotPlacementRecord> Placements() const = 0;
 };
 
+// Where a robot that localizes in a known map stands (RobotRecord::localization_only): its
+// poses are in that map's frame, placed by its registration (identity: the global map itself).
+// Both workers leave it out of the merge and report this.
+inline RobotPlacementRecord LocalizationPlacement(const RobotRecord& robot) {
+  RobotPlacementRecord p;
+  p.robot_id = robot.robot_id;
+  p.placed = true;
+  p.local_in_global = robot.local_in_global.value_or(Rigid2d());
+  p.start_in_global = p.local_in_global;
+  p.source = "localization";
+  p.note = "localizes in a known map; not merged, its poses are in that map's frame";
+  return p;
+}
+
 }  // namespace fleetmap
 
 #endif  // FLEETMAP_MAP_SERVER_SERVER_MERGE_WORKER_H_

@@ -25,6 +25,8 @@ struct RobotRecord {
   double registered_unix_time = 0.0;
   // The robot's local map frame in the global frame, when given at registration.
   std::optional<Rigid2d> local_in_global;
+  // Localizes in a known map instead of mapping (RegisterRobotRequest.localization_only).
+  bool localization_only = false;
 };
 
 struct SubmapKey {

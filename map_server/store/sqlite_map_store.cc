@@ -49,6 +49,7 @@ RobotRecord RobotFromRow(const SqliteStatement& row) {
   robot.algorithm = row.Text(3);
   robot.registered_unix_time = row.Double(4);
   if (row.Int(5) != 0) robot.local_in_global = Rigid2d(row.Double(6), row.Double(7), row.Double(8));
+  robot.localization_only = row.Int(9) != 0;
   return robot;
 }
 
@@ -97,14 +98,16 @@ bool SqliteMapStore::PutRobot(const RobotRecord& robot, bool* existed, std::stri
   SqliteStatement upsert(
       db_,
       "INSERT INTO robots (robot_id, name, sensor, algorithm, registered_time, has_pose, pose_x, "
-      "pose_y, pose_theta) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT (robot_id) DO UPDATE "
+      "pose_y, pose_theta, localization_only) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?) "
+      "ON CONFLICT (robot_id) DO UPDATE "
       "SET name = excluded.name, sensor = excluded.sensor, algorithm = excluded.algorithm, "
       "has_pose = excluded.has_pose, pose_x = excluded.pose_x, pose_y = excluded.pose_y, "
-      "pose_theta = excluded.pose_theta");
+      "pose_theta = excluded.pose_theta, localization_only = excluded.localization_only");
   upsert.Bind(1, robot.robot_id).Bind(2, robot.name).Bind(3, robot.sensor_description);
   upsert.Bind(4, robot.algorithm).Bind(5, robot.registered_unix_time);
   upsert.Bind(6, static_cast<int64_t>(robot.local_in_global.has_value()));
   upsert.Bind(7, pose.x()).Bind(8, pose.y()).Bind(9, pose.rotation());
+  upsert.Bind(10, static_cast<int64_t>(robot.localization_only));
   if (!upsert.Run()) {
     *error = "storing robot: " + upsert.error();
     return false;
@@ -114,9 +117,10 @@ bool SqliteMapStore::PutRobot(const RobotRecord& robot, bool* existed, std::stri
 
 std::optional<RobotRecord> SqliteMapStore::GetRobot(const std::string& robot_id) {
   std::lock_guard<std::mutex> lock(mutex_);
-  SqliteStatement query(db_,
-                        "SELECT robot_id, name, sensor, algorithm, registered_time, has_pose, "
-                        "pose_x, pose_y, pose_theta FROM robots WHERE robot_id = ?");
+  SqliteStatement query(
+      db_,
+      "SELECT robot_id, name, sensor, algorithm, registered_time, has_pose, "
+      "pose_x, pose_y, pose_theta, localization_only FROM robots WHERE robot_id = ?");
   query.Bind(1, robot_id);
   if (!query.Step()) return std::nullopt;
   return RobotFromRow(query);
@@ -124,9 +128,10 @@ std::optional<RobotRecord> SqliteMapStore::GetRobot(const std::string& robot_id)
 
 std::vector<RobotRecord> SqliteMapStore::ListRobots() {
   std::lock_guard<std::mutex> lock(mutex_);
-  SqliteStatement query(db_,
-                        "SELECT robot_id, name, sensor, algorithm, registered_time, has_pose, "
-                        "pose_x, pose_y, pose_theta FROM robots ORDER BY robot_id");
+  SqliteStatement query(
+      db_,
+      "SELECT robot_id, name, sensor, algorithm, registered_time, has_pose, "
+      "pose_x, pose_y, pose_theta, localization_only FROM robots ORDER BY robot_id");
   std::vector<RobotRecord> out;
   while (query.Step()) out.push_back(RobotFromRow(query));
   return out;

@@ -74,6 +74,10 @@ ALTER TABLE alignments ADD COLUMN start_x REAL;
 ALTER TABLE alignments ADD COLUMN start_y REAL;
 ALTER TABLE alignments ADD COLUMN start_theta REAL;
 )sql",
+      // 2 -> 3: robots that localize in a known map instead of mapping.
+      R"sql(
+ALTER TABLE robots ADD COLUMN localization_only INTEGER NOT NULL DEFAULT 0;
+)sql",
   };
   return migrations;
 }

@@ -8,7 +8,7 @@ struct sqlite3;
 namespace fleetmap {
 
 // The schema version this build writes. Bump it by appending a migration in sqlite_schema.cc.
-constexpr int kSqliteSchemaVersion = 2;
+constexpr int kSqliteSchemaVersion = 3;
 
 // Reads the database's schema version (0 for an empty database); -1 with `error` when the file
 // is not a fleetmap database.

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "robot_agent/agent/detection_factory.h"
+#include "robot_agent/agent/localizer_factory.h"
 #include "robot_agent/agent/proto_conversions.h"
 #include "robot_agent/agent/slam_factory.h"
 #ifdef FLEETMAP_AGENT_HAVE_SIM
@@ -37,50 +38,73 @@ std::unique_ptr<Agent> Agent::Create(const AgentConfig& config, std::string* err
   if (!outbox) return nullptr;
   std::unique_ptr<SensorSource> source = OpenSensorSource(config.source, error);
   if (!source) return nullptr;
-  std::unique_ptr<LocalSlam> slam = CreateLocalSlam(config.slam, config.robot_id, error);
-  if (!slam) return nullptr;
-  std::unique_ptr<DetectionStage> detection;
-  if (config.detection.enabled) {
-    detection = CreateDetectionStage(config, *source, error);
-    if (!detection) return nullptr;
+  // Mapping: the SLAM backend. Localizing in a map file: the filter. Localizing in the server's
+  // map: the filter once the map has arrived (Run).
+  std::unique_ptr<LocalSlam> slam;
+  std::unique_ptr<MclLocalizer> localizer;
+  if (!config.localization.enabled) {
+    slam = CreateLocalSlam(config.slam, config.robot_id, error);
+    if (!slam) return nullptr;
+  } else if (!config.localization.map.empty()) {
+    OccupancyGrid map;
+    if (!ReadLocalizationMap(config.localization, &map, error)) return nullptr;
+    localizer = CreateLocalizer(config.localization, map);
   }
   std::unique_ptr<Agent> agent(new Agent(config, std::move(outbox), std::move(source)));
+  if (config.detection.enabled) {
+    agent->detection_ = CreateDetectionStage(config, *agent->source_, error);
+    if (!agent->detection_) return nullptr;
+  }
 
   auto channel = MakeChannel(config.server_address, config.upload.uploader.backoff);
   v1::RegisterRobotRequest registration;
   registration.set_robot_id(config.robot_id);
   registration.set_name(config.robot_name.empty() ? config.robot_id : config.robot_name);
   registration.set_sensor_description(agent->source_->Describe());
-  registration.set_algorithm(config.slam.algorithm);
+  registration.set_algorithm(config.localization.enabled ? "mcl" : config.slam.algorithm);
+  // Localizing: poses are in the known map's frame, which start_pose places in the global frame
+  // (the server's own map needs no placement).
+  registration.set_localization_only(config.localization.enabled);
   if (config.start_pose)
     *registration.mutable_local_in_global() = agent::ToProto(*config.start_pose);
   agent->uploader_ = std::make_unique<Uploader>(config.upload.uploader, agent->outbox_.get(),
                                                 channel, registration);
-  Uploader* uploader = agent->uploader_.get();
-  MappingPipelineOptions pipeline;
-  pipeline.robot_id = config.robot_id;
-  pipeline.trajectory_period = config.upload.trajectory_period;
-  pipeline.active_submap_period = config.upload.active_submap_period;
-  pipeline.mask_seen_robots = config.detection.mask_seen_robots;
-  if (config.detection.mask_laser_bodies) {
-    pipeline.laser_body_radius = config.detection.marker.body_radius;
-    pipeline.laser_bodies.fusion.range_noise = config.detection.laser_range_noise;
-#ifdef FLEETMAP_AGENT_HAVE_SIM
-    if (const auto* sim = dynamic_cast<const SimSource*>(agent->source_.get())) {
-      pipeline.laser_body_radius = sim->simulation().scenario().body.radius;
-    }
-#endif
-  }
-  agent->pipeline_ = std::make_unique<MappingPipeline>(
-      pipeline, std::move(slam), agent->outbox_.get(), UnixNow, [uploader] { uploader->Notify(); });
-  if (detection) agent->pipeline_->SetDetectionStage(std::move(detection));
   if (config.map.subscribe) {
     MapSubscriberOptions options;
     options.reconnect = config.map.reconnect;
     options.file = config.map.file;
     agent->subscriber_ = std::make_unique<MapSubscriber>(options, channel);
   }
+  if (config.localization.enabled && config.localization.share_detections) {
+    DensityExchangeOptions options;
+    options.robot_id = config.robot_id;
+    options.reconnect = config.map.reconnect;
+    agent->densities_ = std::make_unique<DensityExchange>(options, channel);
+  }
+  if (slam) agent->StartPipeline(std::move(slam));
+  if (localizer) agent->StartLocalization(std::move(localizer));
   return agent;
+}
+
+void Agent::StartPipeline(std::unique_ptr<LocalSlam> slam) {
+  MappingPipelineOptions pipeline;
+  pipeline.robot_id = config_.robot_id;
+  pipeline.trajectory_period = config_.upload.trajectory_period;
+  pipeline.active_submap_period = config_.upload.active_submap_period;
+  pipeline.mask_seen_robots = config_.detection.mask_seen_robots;
+  if (config_.detection.mask_laser_bodies) {
+    pipeline.laser_body_radius = config_.detection.marker.body_radius;
+    pipeline.laser_bodies.fusion.range_noise = config_.detection.laser_range_noise;
+#ifdef FLEETMAP_AGENT_HAVE_SIM
+    if (const auto* sim = dynamic_cast<const SimSource*>(source_.get())) {
+      pipeline.laser_body_radius = sim->simulation().scenario().body.radius;
+    }
+#endif
+  }
+  Uploader* uploader = uploader_.get();
+  pipeline_ = std::make_unique<MappingPipeline>(pipeline, std::move(slam), outbox_.get(), UnixNow,
+                                                [uploader] { uploader->Notify(); });
+  if (detection_) pipeline_->SetDetectionStage(std::move(detection_));
 }
 
 Agent::Agent(const AgentConfig& config, std::unique_ptr<Outbox> outbox,
@@ -91,6 +115,7 @@ Agent::Agent(const AgentConfig& config, std::unique_ptr<Outbox> outbox,
       source_(std::move(source)) {}
 
 Agent::~Agent() {
+  if (densities_) densities_->Stop();
   if (subscriber_) subscriber_->Stop();
   if (uploader_) uploader_->Stop();
 }

@@ -1,17 +1,21 @@
 #ifndef FLEETMAP_ROBOT_AGENT_AGENT_AGENT_H_
 #define FLEETMAP_ROBOT_AGENT_AGENT_AGENT_H_
 
+#include <atomic>
 #include <condition_variable>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
 
 #include "robot_agent/agent/agent_config.h"
+#include "robot_agent/agent/density_exchange.h"
 #include "robot_agent/agent/map_subscriber.h"
 #include "robot_agent/agent/mapping_pipeline.h"
 #include "robot_agent/agent/outbox.h"
 #include "robot_agent/agent/sensor_source.h"
 #include "robot_agent/agent/uploader.h"
+#include "robot_agent/localization/mcl_localizer.h"
 
 namespace fleetmap {
 
@@ -44,6 +48,17 @@ class Agent {
  private:
   Agent(const AgentConfig& config, std::unique_ptr<Outbox> outbox,
         std::unique_ptr<SensorSource> source);
+  // The sensor pipeline around `slam` (the SLAM backend or the localizer).
+  void StartPipeline(std::unique_ptr<LocalSlam> slam);
+  // Localizing in the server's map: waits for it (localization.map_wait), then starts the
+  // pipeline. False on a timeout (said in the log) or a stop request.
+  bool WaitForServerMap();
+  // Localizing in the server's map: moves the filter to a newer version once one has arrived.
+  void FollowServerMap();
+  // Localization mode: the pipeline around the filter, which shares what the robot sees.
+  void StartLocalization(std::unique_ptr<MclLocalizer> localizer);
+  // Collaborative localization: what other robots said about this one, into the filter.
+  void ApplyReceivedDensities();
   bool stop_requested() const;
   // Sleeps until `seconds` from now or a stop request; false when stopped.
   bool SleepFor(double seconds);
@@ -56,7 +71,12 @@ class Agent {
   const double start_wall_;
   std::unique_ptr<Outbox> outbox_;
   std::unique_ptr<SensorSource> source_;
-  std::unique_ptr<MappingPipeline> pipeline_;
+  std::unique_ptr<DetectionStage> detection_;   // until the pipeline takes it
+  std::unique_ptr<MappingPipeline> pipeline_;   // null until the localization map is there
+  MclLocalizer* localizer_ = nullptr;           // localization mode; owned by pipeline_
+  bool follows_server_map_ = false;             // localizing in the server's map, not a file
+  std::unique_ptr<DensityExchange> densities_;  // localization mode with share_detections
+  std::atomic<int64_t> server_map_version_{0};  // the version it localizes in (status lines)
   std::unique_ptr<Uploader> uploader_;
   std::unique_ptr<MapSubscriber> subscriber_;
 

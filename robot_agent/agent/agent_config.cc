@@ -138,23 +138,45 @@ void ReadSource(Fields& root, const std::string& base_dir, SourceConfig* config,
   }
 }
 
+// {x:, y:, theta:}, all three required.
+void ReadPose(Fields& parent, const std::string& key, std::optional<Rigid2d>* value,
+              std::string* problem) {
+  if (!parent.Has(key)) return;
+  Fields pose(parent.Child(key), parent.Path(key), problem);
+  double x = 0.0, y = 0.0, theta = 0.0;
+  for (const char* axis : {"x", "y", "theta"}) {
+    if (!pose.Has(axis)) pose.Fail(pose.Path(axis), "missing (" + key + " needs x, y, theta)");
+  }
+  pose.Get("x", &x);
+  pose.Get("y", &y);
+  pose.Get("theta", &theta);
+  pose.CheckUnknown();
+  *value = Rigid2d(x, y, theta);
+}
+
 void ReadRobot(Fields& root, AgentConfig* config, std::string* problem) {
   Fields robot(root.Child("robot"), "robot", problem);
   robot.Get("id", &config->robot_id);
   robot.Get("name", &config->robot_name);
-  if (robot.Has("start_pose")) {
-    Fields pose(robot.Child("start_pose"), "robot.start_pose", problem);
-    double x = 0.0, y = 0.0, theta = 0.0;
-    for (const char* key : {"x", "y", "theta"}) {
-      if (!pose.Has(key)) pose.Fail(pose.Path(key), "missing (start_pose needs x, y, theta)");
-    }
-    pose.Get("x", &x);
-    pose.Get("y", &y);
-    pose.Get("theta", &theta);
-    pose.CheckUnknown();
-    config->start_pose = Rigid2d(x, y, theta);
-  }
+  ReadPose(robot, "start_pose", &config->start_pose, problem);
   robot.CheckUnknown();
+}
+
+void ReadLocalization(Fields& root, const std::string& base_dir, LocalizationConfig* config,
+                      std::string* problem) {
+  Fields localization(root.Child("localization"), "localization", problem);
+  localization.Get("enabled", &config->enabled);
+  localization.Get("map", &config->map);
+  config->map = Resolve(base_dir, config->map);
+  localization.Get("map_wait", &config->map_wait);
+  ReadPose(localization, "initial_pose", &config->initial_pose, problem);
+  localization.Get("initial_position_std", &config->initial_position_std);
+  localization.Get("initial_heading_std", &config->initial_heading_std);
+  localization.Get("particles", &config->particles);
+  localization.Get("beams", &config->beams);
+  localization.Get("seed", &config->seed);
+  localization.Get("share_detections", &config->share_detections);
+  localization.CheckUnknown();
 }
 
 void ReadUpload(Fields& root, UploadConfig* config, std::string* problem) {
@@ -273,6 +295,7 @@ bool ParseAgentConfig(const std::string& yaml_text, const std::string& name,
   map.CheckUnknown();
   config->map.file = Resolve(base_dir, config->map.file);
   ReadDetection(root, base_dir, &config->detection, &problem);
+  ReadLocalization(root, base_dir, &config->localization, &problem);
   Fields status(root.Child("status"), "status", &problem);
   status.Get("period", &config->status_period);
   status.CheckUnknown();

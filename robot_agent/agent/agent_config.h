@@ -85,6 +85,26 @@ struct DetectionConfig {
   bool mask_laser_bodies = false;
 };
 
+// Localizing in a known map (Monte Carlo localization) instead of mapping: the robot uploads
+// its poses in that map's frame and no submaps. With `share_detections`, a robot that sees
+// another (detection.enabled) sends it, through the server, the density of its pose (the
+// collaborative update of the paper's section IV), and applies the densities others send it.
+struct LocalizationConfig {
+  bool enabled = false;
+  // A ROS map (YAML + image, e.g. from `fleetmapctl export`); empty = the server's global map,
+  // waited for at start for at most `map_wait` seconds.
+  std::string map;
+  double map_wait = 120.0;
+  // The robot's start in the map frame; absent = global localization (uniform belief).
+  std::optional<Rigid2d> initial_pose;
+  double initial_position_std = 0.3;  // metres
+  double initial_heading_std = 0.1;   // radians
+  int particles = 5000;               // the most the filter uses (KLD sampling uses fewer)
+  int beams = 60;                     // laser returns per update
+  int seed = 1;
+  bool share_detections = true;
+};
+
 // Everything one fleetmap-agent process needs, loaded from robot.yaml.
 struct AgentConfig {
   std::string robot_id;  // 1-64 characters of [A-Za-z0-9_.-]
@@ -97,6 +117,7 @@ struct AgentConfig {
   UploadConfig upload;
   MapConfig map;
   DetectionConfig detection;
+  LocalizationConfig localization;
   double status_period = 5.0;  // seconds between status lines; 0 = none
 };
 

@@ -120,6 +120,40 @@ void ValidateDetection(const AgentConfig& config, Checker& check) {
   }
 }
 
+void ValidateLocalization(const AgentConfig& config, Checker& check) {
+  const LocalizationConfig& localization = config.localization;
+  if (!localization.enabled) return;
+  if (localization.map.empty()) {
+    if (!config.map.subscribe) {
+      check.Fail("localization.map",
+                 "missing, and map.subscribe is false: give a map file or follow the server's map");
+    }
+    // The server's map is in the global frame: nothing to place.
+    if (config.start_pose) {
+      check.Fail("robot.start_pose",
+                 "must be left out when localizing in the server's global map (its frame is the "
+                 "global one); it places a map file in the global frame");
+    }
+  } else {
+    check.FileExists("localization.map", localization.map);
+  }
+  check.Positive("localization.map_wait", localization.map_wait);
+  if (localization.initial_pose && !localization.initial_pose->IsFinite()) {
+    check.Fail("localization.initial_pose", "must be finite numbers");
+  }
+  check.Positive("localization.initial_position_std", localization.initial_position_std);
+  check.Positive("localization.initial_heading_std", localization.initial_heading_std);
+  if (localization.particles < 10 || localization.particles > 1000000) {
+    check.Fail("localization.particles",
+               "must be in [10, 1000000], got " + std::to_string(localization.particles));
+  }
+  if (localization.beams < 1 || localization.beams > 10000) {
+    check.Fail("localization.beams",
+               "must be in [1, 10000], got " + std::to_string(localization.beams));
+  }
+  check.NonNegative("localization.seed", localization.seed);
+}
+
 }  // namespace
 
 bool ValidateAgentConfig(const AgentConfig& config, std::string* error) {
@@ -185,6 +219,7 @@ bool ValidateAgentConfig(const AgentConfig& config, std::string* error) {
   check.NonNegative("upload.flush_timeout", upload.flush_timeout);
   check.Backoff("map.reconnect", config.map.reconnect);
   ValidateDetection(config, check);
+  ValidateLocalization(config, check);
   check.NonNegative("status.period", config.status_period);
   return check.ok();
 }

@@ -9,11 +9,22 @@
 namespace fleetmap {
 
 int Agent::Run(bool stay) {
-  Log("fleetmap-agent: robot " + config_.robot_id + ", source: " + source_->Describe() +
-      ", SLAM: " + config_.slam.algorithm + ", server " + config_.server_address + ", outbox " +
-      outbox_->path());
+  const LocalizationConfig& localization = config_.localization;
+  const std::string mode = !localization.enabled ? "SLAM: " + config_.slam.algorithm
+                           : localization.map.empty()
+                               ? std::string("localization (MCL) in the server's global map")
+                               : "localization (MCL) in " + localization.map;
+  Log("fleetmap-agent: robot " + config_.robot_id + ", source: " + source_->Describe() + ", " +
+      mode + ", server " + config_.server_address + ", outbox " + outbox_->path());
   uploader_->Start();
   if (subscriber_) subscriber_->Start();
+  if (densities_) densities_->Start();
+  if (!pipeline_ && !WaitForServerMap()) {
+    uploader_->Stop();
+    if (subscriber_) subscriber_->Stop();
+    if (densities_) densities_->Stop();
+    return stop_requested() ? kAgentOk : kAgentFailed;
+  }
   std::thread status([this] { StatusLoop(); });
 
   int exit_code = kAgentOk;
@@ -34,6 +45,8 @@ int Agent::Run(bool stay) {
       if (!SleepFor(due - UnixNow())) break;
     }
     first = false;
+    FollowServerMap();
+    ApplyReceivedDensities();
     if (!pipeline_->Process(event, &error)) {
       Log("error: " + error);
       exit_code = kAgentFailed;
@@ -80,6 +93,7 @@ int Agent::Run(bool stay) {
   status.join();
   uploader_->Stop();
   if (subscriber_) subscriber_->Stop();
+  if (densities_) densities_->Stop();
   OutboxCounts counts;
   outbox_->Counts(&counts, &error);
   Log(StatusLine());
@@ -91,6 +105,7 @@ int Agent::Run(bool stay) {
 }
 
 std::string Agent::StatusLine() const {
+  if (!pipeline_) return "waiting for the server's global map to localize in";
   const PipelineCounters& counters = pipeline_->counters();
   const UploaderStats stats = uploader_->stats();
   OutboxCounts counts;
@@ -122,6 +137,12 @@ std::string Agent::StatusLine() const {
     const auto map = subscriber_->latest();
     line << " | map " << (subscriber_->streaming() ? "streaming" : "not streaming");
     if (map) line << " v" << map->version;
+  }
+  if (follows_server_map_) line << " | localizing in map v" << server_map_version_;
+  if (densities_) {
+    const DensityExchangeStats d = densities_->stats();
+    line << " | densities sent=" << d.sent << " delivered=" << d.delivered
+         << " failed=" << d.send_failed << " received=" << d.received << " dropped=" << d.dropped;
   }
   return line.str();
 }

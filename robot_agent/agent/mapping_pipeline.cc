@@ -98,7 +98,10 @@ bool MappingPipeline::Process(const SensorEvent& event, std::string* error) {
   if (detection_ && (event.laser || event.camera)) {
     std::vector<RobotDetection> detections;
     detection_->Process(event, &detections);
-    for (const RobotDetection& d : detections) mask_.AddDetection(d);
+    for (const RobotDetection& d : detections) {
+      mask_.AddDetection(d);
+      if (detection_listener_) detection_listener_(d);
+    }
     if (!AddDetections(detections, error)) return false;
   }
   return true;

@@ -67,6 +67,11 @@ class MappingPipeline {
   // Camera frames then go through `stage` (paired with scans) and its detections to the outbox.
   void SetDetectionStage(std::unique_ptr<DetectionStage> stage) { detection_ = std::move(stage); }
   const DetectionStage* detection_stage() const { return detection_.get(); }
+  // Called on the caller's thread with each detection as it is made (after the scan it was
+  // paired with went to the backend); e.g. to tell the seen robot where it is.
+  void SetDetectionListener(std::function<void(const RobotDetection&)> listener) {
+    detection_listener_ = std::move(listener);
+  }
   // End of input: finishes the active submap and queues it and the final trajectory.
   bool Finish(std::string* error);
 
@@ -90,6 +95,7 @@ class MappingPipeline {
   const MappingPipelineOptions options_;
   std::unique_ptr<LocalSlam> slam_;
   std::unique_ptr<DetectionStage> detection_;  // optional
+  std::function<void(const RobotDetection&)> detection_listener_;  // optional
   Outbox* const outbox_;
   const std::function<double()> now_;
   const std::function<void()> on_queued_;

@@ -1,5 +1,7 @@
 #include "robot_agent/agent/proto_conversions.h"
 
+#include <cmath>
+
 namespace fleetmap::agent {
 
 v1::SubmapUpload ToProto(const Submap& submap, int zstd_level) {
@@ -40,6 +42,54 @@ v1::Detection ToProto(const RobotDetection& detection, int64_t detection_id) {
   }
   out.set_confidence(detection.confidence);
   return out;
+}
+
+v1::PoseDensity ToProto(const PoseDensity& density) {
+  v1::PoseDensity out;
+  out.set_observer_id(density.observer_id);
+  out.set_observed_id(density.observed_id);
+  out.set_timestamp(density.timestamp);
+  out.set_has_heading(density.has_heading);
+  for (const PoseDensityKernel& kernel : density.kernels) {
+    v1::PoseDensityKernel* k = out.add_kernels();
+    k->set_weight(kernel.weight);
+    k->set_x(kernel.mean.x());
+    k->set_y(kernel.mean.y());
+    k->set_var_x(kernel.covariance(0, 0));
+    k->set_cov_xy(kernel.covariance(0, 1));
+    k->set_var_y(kernel.covariance(1, 1));
+    k->set_theta(kernel.heading);
+    k->set_var_theta(kernel.heading_variance);
+  }
+  return out;
+}
+
+bool FromProto(const v1::PoseDensity& message, PoseDensity* density) {
+  *density = PoseDensity();
+  density->observer_id = message.observer_id();
+  density->observed_id = message.observed_id();
+  density->timestamp = message.timestamp();
+  density->has_heading = message.has_heading();
+  double total = 0.0;
+  for (const v1::PoseDensityKernel& k : message.kernels()) {
+    PoseDensityKernel kernel;
+    kernel.weight = k.weight();
+    kernel.mean = Eigen::Vector2d(k.x(), k.y());
+    kernel.covariance << k.var_x(), k.cov_xy(), k.cov_xy(), k.var_y();
+    kernel.heading = k.theta();
+    kernel.heading_variance = k.var_theta();
+    const bool usable =
+        std::isfinite(kernel.weight) && kernel.weight > 0.0 && kernel.mean.allFinite() &&
+        kernel.covariance.allFinite() && k.var_x() > 0.0 && k.var_y() > 0.0 &&
+        k.var_x() * k.var_y() > k.cov_xy() * k.cov_xy() && std::isfinite(kernel.heading) &&
+        std::isfinite(kernel.heading_variance) && kernel.heading_variance >= 0.0;
+    if (!usable) return false;
+    total += kernel.weight;
+    density->kernels.push_back(kernel);
+  }
+  if (density->kernels.empty() || !std::isfinite(density->timestamp)) return false;
+  for (PoseDensityKernel& kernel : density->kernels) kernel.weight /= total;
+  return true;
 }
 
 }  // namespace fleetmap::agent

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -56,6 +57,8 @@ class Mcl {
 
   const MclOptions& options() const { return options_; }
   const FreeSpace& free_space() const { return free_space_; }
+  // A newer map (e.g. the next global map version): the particles stay where they are.
+  void set_free_space(FreeSpace free_space) { free_space_ = std::move(free_space); }
 
   // Global localization: `count` particles (default max_particles) uniform over the free space
   // with uniform headings. Sets globally_localizing().

@@ -145,6 +145,57 @@ TEST_F(AgentConfigTest, EachBadFieldIsNamed) {
   }
 }
 
+// The localization block: parsed with its map resolved against the file, and each bad field
+// named. Base() places the robot (start_pose), which a map from the server must not have.
+TEST_F(AgentConfigTest, LocalizationModeIsParsedAndItsBadFieldsAreNamed) {
+  std::ofstream(dir_.path() + "/floor.yaml") << "image: floor.pgm\n";
+  const std::string with_file =
+      Base() +
+      "localization:\n  enabled: true\n  map: floor.yaml\n  initial_pose: {x: 1, y: 2, "
+      "theta: 0.5}\n  particles: 3000\n  beams: 90\n  seed: 4\n  share_detections: false\n";
+  AgentConfig config;
+  std::string error;
+  ASSERT_TRUE(Parse(with_file, &config, &error)) << error;
+  const LocalizationConfig& localization = config.localization;
+  EXPECT_TRUE(localization.enabled);
+  EXPECT_EQ(localization.map, dir_.path() + "/floor.yaml");
+  ASSERT_TRUE(localization.initial_pose.has_value());
+  EXPECT_DOUBLE_EQ(localization.initial_pose->rotation(), 0.5);
+  EXPECT_EQ(localization.particles, 3000);
+  EXPECT_EQ(localization.beams, 90);
+  EXPECT_EQ(localization.seed, 4);
+  EXPECT_FALSE(localization.share_detections);
+
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"localization: {enabled: true, map: nowhere.yaml}", "localization.map: no such file"},
+      {"localization: {enabled: true}", "robot.start_pose: must be left out when localizing"},
+      {"localization: {enabled: true, map: floor.yaml, particles: 5}",
+       "localization.particles: must be in [10, 1000000], got 5"},
+      {"localization: {enabled: true, map: floor.yaml, beams: 0}",
+       "localization.beams: must be in [1, 10000]"},
+      {"localization: {enabled: true, map: floor.yaml, initial_pose: {x: 1, y: 2}}",
+       "localization.initial_pose.theta: missing"},
+      {"localization: {enabled: true, map: floor.yaml, initial_position_std: 0}",
+       "localization.initial_position_std: must be > 0"},
+      {"localization: {enabled: true, map: floor.yaml, map_wait: -1}",
+       "localization.map_wait: must be > 0"},
+      {"localization: {enabled: true, map: floor.yaml, partciles: 5}",
+       "localization.partciles: unknown field"},
+  };
+  for (const auto& [block, expected] : cases) {
+    EXPECT_FALSE(Parse(Base() + block + "\n", &config, &error)) << expected;
+    EXPECT_THAT(error, HasSubstr(expected)) << block;
+  }
+  // The server's map: no start pose (its frame is the global one), and map.subscribe on.
+  std::string unplaced = With("  start_pose: {x: 1.5, y: -2, theta: 0.5}\n", "");
+  EXPECT_TRUE(Parse(unplaced + "localization: {enabled: true}\n", &config, &error)) << error;
+  EXPECT_TRUE(config.localization.map.empty());
+  std::string no_subscribe = unplaced;
+  no_subscribe.replace(no_subscribe.find("  file: global"), 14, "  subscribe: false");
+  EXPECT_FALSE(Parse(no_subscribe + "localization: {enabled: true}\n", &config, &error));
+  EXPECT_THAT(error, HasSubstr("localization.map: missing, and map.subscribe is false"));
+}
+
 TEST_F(AgentConfigTest, SourceIsRequired) {
   AgentConfig config;
   std::string error;

@@ -7,7 +7,6 @@
 
 #include <Eigen/LU>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <vector>
 
@@ -16,68 +15,16 @@
 #include "robot_agent/agent/sim_detection_setup.h"
 #include "robot_agent/agent/sim_source.h"
 #include "robot_agent/sim/simulation.h"
+#include "tests/agent/sim_agents.h"
 #include "tests/agent/test_server.h"
 #include "tests/support/test_support.h"
 
 namespace fleetmap {
 namespace {
 
-// The rectangle world's south corridor spans y in [0.15, 2.2]. robot1 drives east along
-// y = 1.7; robot2 stands at y = 0.6 facing west (its route starts after the run ends), so they
-// see each other from 5.3 m down to ~1.9 m (the 60 degree field of view).
-constexpr char kScenario[] = R"(name: corridor_pass
-world: rectangle
-seed: 5
-duration: 12
-robots:
-  - name: robot1
-    start: {x: 1.2, y: 1.7, theta: 0}
-    route: {waypoints: [[9.0, 1.7]], speed: 0.5}
-  - name: robot2
-    start: {x: 6.5, y: 0.6, theta: 3.14159265}
-    start_delay: 100
-    route: {waypoints: [[7.5, 0.6]], speed: 0.5}
-)";
-
-std::string WriteScenario(const std::string& dir) {
-  const std::string path = dir + "/corridor_pass.yaml";
-  std::ofstream(path) << kScenario;
-  return path;
-}
-
-// True poses of every robot at every tick (ms), from a copy of the deterministic simulation.
-std::map<long, std::vector<Rigid2d>> GroundTruth(const std::string& scenario) {
-  std::string error;
-  auto simulation = sim::Simulation::FromFile(scenario, &error, /*camera_enabled=*/false);
-  EXPECT_NE(simulation, nullptr) << error;
-  std::map<long, std::vector<Rigid2d>> truth;
-  if (!simulation) return truth;
-  while (!simulation->Done()) {
-    truth[std::lround(simulation->time() * 1000.0)] = simulation->TruePoses();
-    simulation->Step();
-  }
-  return truth;
-}
-
-AgentConfig SimAgentConfig(const std::string& scenario, const std::string& robot,
-                           const std::string& dir, int port) {
-  AgentConfig config;
-  config.robot_id = robot;
-  config.server_address = "127.0.0.1:" + std::to_string(port);
-  config.outbox_path = dir + "/" + robot + ".db";
-  config.source.type = SourceConfig::Type::kSimulator;
-  config.source.scenario = scenario;
-  config.source.sim_robot = robot;
-  config.source.sim_camera = true;
-  config.source.speed = 0.0;
-  config.upload.uploader.backoff.initial = 0.02;
-  config.upload.uploader.backoff.max = 0.2;
-  config.upload.drain_timeout = 20.0;
-  config.map.subscribe = false;
-  config.status_period = 0.0;
-  config.detection.enabled = true;
-  return config;
-}
+using testing::SimAgentConfig;
+using testing::SimGroundTruth;
+using testing::WriteScenario;
 
 TEST(AgentDetectionTest, SimulatorSetupLearnsEveryMarkerColour) {
   const testing::ScopedTempDir dir("agent_detect_setup");
@@ -102,7 +49,7 @@ TEST(AgentDetectionTest, DetectionsOfTheOtherRobotReachTheServerAndMatchGroundTr
   const testing::ScopedTempDir temp("agent_detect_sim");
   const std::string& dir = temp.path();
   const std::string scenario = WriteScenario(dir);
-  const auto truth = GroundTruth(scenario);
+  const auto truth = SimGroundTruth(scenario);
   ASSERT_FALSE(truth.empty());
   auto server = testing::StartServer(0);
   ASSERT_NE(server, nullptr);

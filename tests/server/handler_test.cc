@@ -1,6 +1,10 @@
 // The handlers against the in-memory store, called directly (no network).
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <functional>
+
+#include "map_server/server/density_relay.h"
 #include "map_server/server/known_pose_merge_worker.h"
 #include "map_server/server/map_service.h"
 #include "map_server/store/memory_map_store.h"
@@ -162,6 +166,122 @@ TEST_F(HandlerTest, GlobalMapPlacesKnownRobotsOnly) {
   grpc::ServerContext map_context;
   EXPECT_EQ(service_.GetGlobalMap(&map_context, &map_request, &map).error_code(),
             StatusCode::NOT_FOUND);
+}
+
+// A robot localizing in a known map sends no submaps and is shown where its map is placed: the
+// global frame itself, or its registered pose.
+TEST_F(HandlerTest, ALocalizationOnlyRobotIsPlacedByItsMapAndSendsNoSubmaps) {
+  for (const auto& [id, with_pose] : {std::pair{"in_global", false}, {"in_file", true}}) {
+    grpc::ServerContext context;
+    v1::RegisterRobotResponse response;
+    auto request = testing::MakeRegistration(id, with_pose, Rigid2d(3.0, -1.0, 0.25));
+    request.set_localization_only(true);
+    ASSERT_TRUE(service_.RegisterRobot(&context, &request, &response).ok());
+  }
+  grpc::Status status;
+  Upload("in_global", testing::MakeSubmapUpload(0, 0), &status);
+  EXPECT_EQ(status.error_code(), StatusCode::FAILED_PRECONDITION);
+  EXPECT_NE(status.error_message().find("localization only"), std::string::npos)
+      << status.error_message();
+  EXPECT_EQ(store_.CountSubmapIds("in_global"), 0);
+
+  v1::GetRobotsResponse robots;
+  for (int i = 0; i < 500; ++i) {  // the worker picks registrations up asynchronously
+    grpc::ServerContext context;
+    const v1::GetRobotsRequest request;
+    robots.Clear();
+    ASSERT_TRUE(service_.GetRobots(&context, &request, &robots).ok());
+    if (robots.robots_size() == 2 && robots.robots(0).placement().placed() &&
+        robots.robots(1).placement().placed()) {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_EQ(robots.robots_size(), 2);
+  const v1::RobotPlacement& in_file = robots.robots(0).placement();  // sorted by id
+  const v1::RobotPlacement& in_global = robots.robots(1).placement();
+  EXPECT_TRUE(in_global.placed());
+  EXPECT_EQ(in_global.source(), "localization");
+  EXPECT_DOUBLE_EQ(in_global.local_in_global().x(), 0.0);
+  EXPECT_DOUBLE_EQ(in_global.local_in_global().theta(), 0.0);
+  EXPECT_TRUE(in_file.placed());
+  EXPECT_EQ(in_file.source(), "localization");
+  EXPECT_DOUBLE_EQ(in_file.local_in_global().x(), 3.0);
+  EXPECT_DOUBLE_EQ(in_file.local_in_global().theta(), 0.25);
+}
+
+// Collaborative localization: a density is checked, then relayed live to the seen robot's
+// subscriptions only.
+TEST_F(HandlerTest, PoseDensitiesAreCheckedAndRelayedToTheSeenRobot) {
+  ASSERT_TRUE(Register("seer", false).ok());
+  ASSERT_TRUE(Register("lost", false).ok());
+  v1::PoseDensity density;
+  density.set_observer_id("seer");
+  density.set_observed_id("lost");
+  density.set_timestamp(12.5);
+  v1::PoseDensityKernel* kernel = density.add_kernels();
+  kernel->set_weight(1.0);
+  kernel->set_x(3.0);
+  kernel->set_var_x(0.01);
+  kernel->set_var_y(0.01);
+  auto send = [&](const v1::PoseDensity& d, v1::SendPoseDensityResponse* response) {
+    grpc::ServerContext context;
+    return service_.SendPoseDensity(&context, &d, response);
+  };
+  v1::SendPoseDensityResponse response;
+  ASSERT_TRUE(send(density, &response).ok());
+  EXPECT_EQ(response.receivers(), 0) << "nobody listens yet: dropped";
+
+  struct Bad {
+    std::function<void(v1::PoseDensity*)> change;
+    StatusCode code;
+    std::string message;
+  };
+  const std::vector<Bad> bad = {
+      {[](v1::PoseDensity* d) { d->set_observed_id("ghost"); }, StatusCode::NOT_FOUND, "ghost"},
+      {[](v1::PoseDensity* d) { d->set_observed_id("seer"); }, StatusCode::INVALID_ARGUMENT,
+       "same robot"},
+      {[](v1::PoseDensity* d) { d->clear_kernels(); }, StatusCode::INVALID_ARGUMENT, "1-256"},
+      {[](v1::PoseDensity* d) { d->mutable_kernels(0)->set_cov_xy(0.5); },
+       StatusCode::INVALID_ARGUMENT, "positive definite"},
+      {[](v1::PoseDensity* d) { d->mutable_kernels(0)->set_x(NAN); }, StatusCode::INVALID_ARGUMENT,
+       "finite"},
+      {[](v1::PoseDensity* d) { d->mutable_kernels(0)->set_weight(0.0); },
+       StatusCode::INVALID_ARGUMENT, "weight"},
+  };
+  for (const Bad& b : bad) {
+    v1::PoseDensity changed = density;
+    b.change(&changed);
+    const grpc::Status status = send(changed, &response);
+    EXPECT_EQ(status.error_code(), b.code) << b.message;
+    EXPECT_NE(status.error_message().find(b.message), std::string::npos) << status.error_message();
+  }
+}
+
+TEST(DensityRelayTest, DeliversToTheSeenRobotOnlyAndDropsTheOldestWhenBehind) {
+  DensityRelay relay(/*queue_limit=*/2);
+  const auto lost = relay.Subscribe("lost");
+  const auto other = relay.Subscribe("other");
+  for (double t : {1.0, 2.0, 3.0}) {
+    v1::PoseDensity density;
+    density.set_observed_id("lost");
+    density.set_timestamp(t);
+    EXPECT_EQ(relay.Publish(density), 1);
+  }
+  EXPECT_EQ(lost->dropped(), 1);
+  EXPECT_DOUBLE_EQ(lost->Pop(std::chrono::milliseconds(0))->timestamp(), 2.0);
+  EXPECT_DOUBLE_EQ(lost->Pop(std::chrono::milliseconds(0))->timestamp(), 3.0);
+  EXPECT_FALSE(lost->Pop(std::chrono::milliseconds(0)));
+  EXPECT_FALSE(other->Pop(std::chrono::milliseconds(0)));
+  relay.Unsubscribe("lost", lost);
+  v1::PoseDensity late;
+  late.set_observed_id("lost");
+  EXPECT_EQ(relay.Publish(late), 0);
+  // Closing wakes a waiting subscriber at once.
+  relay.Close();
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_FALSE(other->Pop(std::chrono::seconds(10)));
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
 }
 
 TEST_F(HandlerTest, NewRevisionReplacesTheOldOne) {

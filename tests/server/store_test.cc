@@ -185,8 +185,8 @@ TEST(SqliteStoreTest, MigratesVersionOneAlignments) {
   ASSERT_EQ(
       sqlite3_exec(db,
                    "ALTER TABLE alignments DROP COLUMN start_x; ALTER TABLE alignments DROP COLUMN "
-                   "start_y; ALTER TABLE alignments DROP COLUMN start_theta; UPDATE schema_version "
-                   "SET version = 1",
+                   "start_y; ALTER TABLE alignments DROP COLUMN start_theta; ALTER TABLE robots "
+                   "DROP COLUMN localization_only; UPDATE schema_version SET version = 1",
                    nullptr, nullptr, nullptr),
       SQLITE_OK);
   sqlite3_close(db);
@@ -202,6 +202,44 @@ TEST(SqliteStoreTest, MigratesVersionOneAlignments) {
   ASSERT_TRUE(store->GetVersion(2)->placements.at(0).start_in_global);
   EXPECT_THAT(*store->GetVersion(2)->placements.at(0).start_in_global,
               testing::IsNearPose(Rigid2d(1, 2.5, 0.2), 1e-12, 1e-12));
+}
+
+// A database written before schema version 3 (no localization_only column) opens and its robots
+// read as mapping robots; the flag then round-trips.
+TEST(SqliteStoreTest, MigratesVersionTwoRobotsAndKeepsLocalizationOnly) {
+  const testing::ScopedTempDir temp("store_migrate_robots");
+  SqliteMapStoreOptions options;
+  options.path = temp.path() + "/map.db";
+  std::string error;
+  bool existed = false;
+  {
+    auto store = SqliteMapStore::Open(options, &error);
+    ASSERT_TRUE(store) << error;
+    RobotRecord robot;
+    robot.robot_id = "mapper";
+    ASSERT_TRUE(store->PutRobot(robot, &existed, &error)) << error;
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(options.path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db,
+                         "ALTER TABLE robots DROP COLUMN localization_only; UPDATE schema_version "
+                         "SET version = 2",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  auto store = SqliteMapStore::Open(options, &error);
+  ASSERT_TRUE(store) << error;
+  ASSERT_TRUE(store->GetRobot("mapper"));
+  EXPECT_FALSE(store->GetRobot("mapper")->localization_only);
+  RobotRecord localizer;
+  localizer.robot_id = "localizer";
+  localizer.localization_only = true;
+  ASSERT_TRUE(store->PutRobot(localizer, &existed, &error)) << error;
+  store.reset();
+  store = SqliteMapStore::Open(options, &error);
+  ASSERT_TRUE(store) << error;
+  EXPECT_TRUE(store->GetRobot("localizer")->localization_only);
+  EXPECT_FALSE(store->GetRobot("mapper")->localization_only);
 }
 
 TEST(SqliteStoreTest, DataSurvivesReopen) {

@@ -1,0 +1,117 @@
+#include "robot_agent/localization/mcl_localizer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "shared/core/likelihood_field.h"
+
+namespace fleetmap {
+namespace {
+
+bool Finite(const Rigid2d& pose) {
+  return std::isfinite(pose.translation().x()) && std::isfinite(pose.translation().y()) &&
+         std::isfinite(pose.rotation());
+}
+
+}  // namespace
+
+MclLocalizer::MclLocalizer(const OccupancyGrid& map, const MclLocalizerOptions& options)
+    : mcl_(FreeSpace::FromGrid(map), options.mcl),
+      model_(LikelihoodField(map, LikelihoodFieldOptions()), options.laser),
+      options_(options),
+      gate_(options.density_interval, options.lost_density_interval) {
+  if (options.initial_pose) {
+    const double p = options.initial_position_std * options.initial_position_std;
+    const double h = options.initial_heading_std * options.initial_heading_std;
+    mcl_.InitializeGaussian(*options.initial_pose, Eigen::Vector3d(p, p, h).asDiagonal());
+  } else {
+    mcl_.InitializeUniform();
+  }
+  estimate_ = mcl_.Estimate();
+}
+
+bool MclLocalizer::AddOdometry(const StampedPose& odometry, std::string* error) {
+  if (!std::isfinite(odometry.timestamp) || !Finite(odometry.pose)) {
+    *error = "odometry with a non-finite value";
+    return false;
+  }
+  if (odometry.timestamp < last_input_time_) {
+    *error = "odometry older than the previous input";
+    return false;
+  }
+  last_input_time_ = odometry.timestamp;
+  odometry_ = odometry;
+  return true;
+}
+
+bool MclLocalizer::AddScan(const LaserScan& scan, std::string* error) {
+  if (!std::isfinite(scan.timestamp)) {
+    *error = "scan with a non-finite timestamp";
+    return false;
+  }
+  if (scan.timestamp < last_input_time_) {
+    *error = "scan older than the previous input";
+    return false;
+  }
+  last_input_time_ = scan.timestamp;
+  if (trajectory_.empty()) first_scan_time_ = scan.timestamp;
+  if (odometry_) {
+    if (odometry_at_last_scan_) mcl_.Predict(odometry_at_last_scan_->inverse() * odometry_->pose);
+    odometry_at_last_scan_ = odometry_->pose;
+  }
+  mcl_.UpdateLaser(scan, model_);
+  estimate_ = mcl_.Estimate();
+  if (estimate_.converged && time_to_converge_ < 0.0) {
+    time_to_converge_ = scan.timestamp - first_scan_time_;
+  }
+  trajectory_.push_back({scan.timestamp, estimate_.robot_in_map});
+  return true;
+}
+
+void MclLocalizer::SetMap(const OccupancyGrid& map) {
+  mcl_.set_free_space(FreeSpace::FromGrid(map));
+  model_ = LikelihoodFieldModel(LikelihoodField(map, LikelihoodFieldOptions()), options_.laser);
+}
+
+Rigid2d MclLocalizer::CurrentPose() const { return estimate_.robot_in_map; }
+
+std::optional<PoseDensity> MclLocalizer::DensityOfSeenRobot(const RobotDetection& detection) {
+  std::optional<PoseDensity> density =
+      SummarizeDetection(mcl_.particles(), detection, options_.summary, mcl_.rng());
+  if (density) ++densities_sent_;
+  return density;
+}
+
+bool MclLocalizer::ApplyDensity(const PoseDensity& density) {
+  if (!gate_.Allow(density.observer_id, density.observed_id, density.timestamp,
+                   mcl_.globally_localizing())) {
+    ++densities_skipped_;
+    return false;
+  }
+  if (!ApplyPoseDensity(density, options_.density, &mcl_)) {
+    ++densities_refused_;
+    return false;
+  }
+  ++densities_applied_;
+  estimate_ = mcl_.Estimate();
+  return true;
+}
+
+std::string MclLocalizer::Statistics() const {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(2);
+  out << "MCL: " << trajectory_.size() << " scans, "
+      << (estimate_.converged ? "converged" : "not converged") << " (position std "
+      << MaxPositionStd(estimate_.covariance) << " m, heading std "
+      << std::sqrt(std::max(0.0, estimate_.covariance(2, 2))) << " rad, "
+      << estimate_.particle_count << " particles)";
+  if (time_to_converge_ >= 0.0) out << ", first converged after " << time_to_converge_ << " s";
+  out << "; densities of robots it saw: " << densities_sent_ << "; densities from others: applied "
+      << densities_applied_ << ", refused " << densities_refused_ << ", too soon "
+      << densities_skipped_;
+  return out.str();
+}
+
+}  // namespace fleetmap

@@ -1,0 +1,97 @@
+#ifndef FLEETMAP_ROBOT_AGENT_LOCALIZATION_MCL_LOCALIZER_H_
+#define FLEETMAP_ROBOT_AGENT_LOCALIZATION_MCL_LOCALIZER_H_
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "robot_agent/localization/collaborative_update.h"
+#include "robot_agent/localization/likelihood_field_model.h"
+#include "robot_agent/localization/mcl.h"
+#include "robot_agent/slam/local_slam.h"
+#include "shared/core/occupancy_grid.h"
+
+namespace fleetmap {
+
+struct MclLocalizerOptions {
+  MclOptions mcl;
+  LikelihoodFieldModelOptions laser;
+  // Where the robot starts, in the map frame: a Gaussian around `initial_pose`, or, without
+  // one, global localization from a uniform belief over the free space.
+  std::optional<Rigid2d> initial_pose;
+  double initial_position_std = 0.3;  // metres
+  double initial_heading_std = 0.1;   // radians
+  DensityUpdateOptions density;
+  DetectionSummaryOptions summary;
+  // Densities from one other robot are applied at most this often (DetectionGate): consecutive
+  // ones carry almost the same information.
+  double density_interval = 2.0;
+  double lost_density_interval = 0.5;
+};
+
+// Monte Carlo localization behind the agent's LocalSlam interface, so that the agent's pipeline
+// (outbox, trajectory revisions, detections, masks) runs unchanged when a robot localizes in a
+// known map instead of mapping. The "local map" is the known map: every pose is robot-in-map,
+// and the agent registers the robot with the map's placement in the global frame (identity for
+// the server's own global map). It builds no submaps.
+//
+// Odometry: each scan moves the particles by the odometry increment between the latest
+// readings at this scan and at the previous one (the agent feeds the reading a log's laser line
+// carries just before its scan). Poses already reported are never revised.
+class MclLocalizer : public LocalSlam {
+ public:
+  MclLocalizer(const OccupancyGrid& map, const MclLocalizerOptions& options);
+
+  bool AddOdometry(const StampedPose& odometry, std::string* error) override;
+  bool AddScan(const LaserScan& scan, std::string* error) override;
+  Rigid2d CurrentPose() const override;
+  const Trajectory& trajectory() const override { return trajectory_; }
+  int64_t trajectory_revision() const override { return 0; }
+  using LocalSlam::TakeSubmapUpdates;
+  std::vector<Submap> TakeSubmapUpdates(size_t) override { return {}; }
+  void Finish() override {}
+  std::string Statistics() const override;
+
+  // The belief after the latest scan.
+  const PoseEstimate& estimate() const { return estimate_; }
+  // Seconds of sensor time from the first scan until the estimate first converged (< 0: not
+  // yet).
+  double time_to_converge() const { return time_to_converge_; }
+  const Mcl& filter() const { return mcl_; }
+
+  // Replaces the map (a newer version of it) between scans; the belief is kept as it is.
+  void SetMap(const OccupancyGrid& map);
+
+  // Collaborative update (eq. 15 of the paper), observer side: where the robot this one just
+  // detected is, from this robot's belief; nullopt while this robot is not focused enough to
+  // speak (DetectionSummaryOptions) or the detection is malformed.
+  std::optional<PoseDensity> DensityOfSeenRobot(const RobotDetection& detection);
+  // Observed side: another robot's density of this robot's pose. False (belief unchanged) when
+  // it was unusable or came too soon after the previous one from the same robot. Counted in
+  // Statistics().
+  bool ApplyDensity(const PoseDensity& density);
+
+ private:
+  Mcl mcl_;
+  LikelihoodFieldModel model_;
+  const MclLocalizerOptions options_;
+  Trajectory trajectory_;
+  PoseEstimate estimate_;
+  std::optional<StampedPose> odometry_;  // the latest reading
+  std::optional<Rigid2d> odometry_at_last_scan_;
+  double last_input_time_ = -1e300;
+  double first_scan_time_ = 0.0;
+  double time_to_converge_ = -1.0;
+  DetectionGate gate_;
+  int64_t densities_sent_ = 0;
+  int64_t densities_skipped_ = 0;  // by the gate
+  int64_t densities_applied_ = 0;
+  int64_t densities_refused_ = 0;
+};
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_ROBOT_AGENT_LOCALIZATION_MCL_LOCALIZER_H_

@@ -1,0 +1,193 @@
+#include "robot_agent/localization/mcl_localizer.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "tests/localization/localization_world.h"
+#include "tests/support/test_support.h"
+
+namespace fleetmap {
+namespace {
+
+using testing::AsymmetricRoom;
+using testing::IsNearPose;
+using testing::MassNear;
+using testing::Room;
+using testing::SimulateScan;
+using testing::SymmetricRoom;
+using testing::SymmetricTwin;
+
+MclLocalizerOptions SmallOptions(uint32_t seed) {
+  MclLocalizerOptions options;
+  options.mcl.kld.max_particles = 3000;
+  options.mcl.kld.min_particles = 500;
+  options.mcl.seed = seed;
+  return options;
+}
+
+// Drives around a circle (0.08 m and 0.1 rad per 0.1 s), feeding odometry in a frame of its
+// own (offset from the map by `odometry_in_map`) and then the scan at the same time, as the
+// agent's pipeline does. Returns the true poses, one per scan.
+std::vector<StampedPose> Drive(const Room& room, Rigid2d robot_in_map, int steps,
+                               const Rigid2d& odometry_in_map, MclLocalizer* localizer,
+                               double start_time = 0.0) {
+  const Rigid2d step(0.08, 0.0, 0.1);
+  std::vector<StampedPose> truth;
+  std::string error;
+  for (int i = 0; i < steps; ++i) {
+    const double t = start_time + 0.1 * i;
+    if (i > 0) robot_in_map = robot_in_map * step;
+    EXPECT_TRUE(localizer->AddOdometry({t, odometry_in_map.inverse() * robot_in_map}, &error))
+        << error;
+    LaserScan scan = SimulateScan(room.walls, robot_in_map);
+    scan.timestamp = t;
+    EXPECT_TRUE(localizer->AddScan(scan, &error)) << error;
+    truth.push_back({t, robot_in_map});
+  }
+  return truth;
+}
+
+TEST(MclLocalizerTest, AKnownStartIsTrackedInTheMapFrameWithOnePosePerScan) {
+  const Room room = AsymmetricRoom();
+  MclLocalizerOptions options = SmallOptions(3);
+  const Rigid2d start(2.0, 2.2, 0.3);
+  // Off by 0.2 m and 0.1 rad, within the stated uncertainty.
+  options.initial_pose = Rigid2d(2.15, 2.05, 0.4);
+  MclLocalizer localizer(room.grid, options);
+  const std::vector<StampedPose> truth =
+      Drive(room, start, 40, Rigid2d(-7.0, 3.0, 2.0), &localizer);
+  ASSERT_EQ(localizer.trajectory().size(), truth.size());
+  for (size_t i = 10; i < truth.size(); ++i) {
+    EXPECT_DOUBLE_EQ(localizer.trajectory()[i].timestamp, truth[i].timestamp);
+    EXPECT_THAT(localizer.trajectory()[i].pose, IsNearPose(truth[i].pose, 0.1, 0.05)) << i;
+  }
+  EXPECT_TRUE(localizer.estimate().converged);
+  EXPECT_THAT(localizer.CurrentPose(), IsNearPose(truth.back().pose, 0.1, 0.05));
+  // Localization builds no map and never revises a reported pose.
+  EXPECT_TRUE(localizer.TakeSubmapUpdates().empty());
+  EXPECT_EQ(localizer.trajectory_revision(), 0);
+}
+
+TEST(MclLocalizerTest, AUniformStartConvergesAndSaysWhen) {
+  const Room room = AsymmetricRoom();
+  MclLocalizer localizer(room.grid, SmallOptions(7));
+  EXPECT_FALSE(localizer.estimate().converged);
+  EXPECT_LT(localizer.time_to_converge(), 0.0);
+  const std::vector<StampedPose> truth =
+      Drive(room, Rigid2d(2.0, 2.2, 0.0), 60, Rigid2d(), &localizer, 100.0);
+  EXPECT_TRUE(localizer.estimate().converged);
+  EXPECT_THAT(localizer.CurrentPose(), IsNearPose(truth.back().pose, 0.15, 0.08));
+  EXPECT_GE(localizer.time_to_converge(), 0.0);
+  EXPECT_LE(localizer.time_to_converge(), 5.9);
+  EXPECT_THAT(localizer.Statistics(), ::testing::HasSubstr("first converged after"));
+}
+
+TEST(MclLocalizerTest, RefusesInputOutOfOrderOrNotFiniteAndKeepsItsState) {
+  const Room room = AsymmetricRoom();
+  MclLocalizerOptions options = SmallOptions(5);
+  options.initial_pose = Rigid2d(2.0, 2.2, 0.0);
+  MclLocalizer localizer(room.grid, options);
+  Drive(room, *options.initial_pose, 3, Rigid2d(), &localizer, 10.0);
+  const Rigid2d before = localizer.CurrentPose();
+  std::string error;
+  LaserScan old_scan = SimulateScan(room.walls, *options.initial_pose);
+  old_scan.timestamp = 10.1;
+  EXPECT_FALSE(localizer.AddScan(old_scan, &error));
+  EXPECT_THAT(error, ::testing::HasSubstr("older"));
+  EXPECT_FALSE(localizer.AddOdometry({10.05, Rigid2d()}, &error));
+  EXPECT_FALSE(localizer.AddOdometry({11.0, Rigid2d(NAN, 0.0, 0.0)}, &error));
+  EXPECT_THAT(error, ::testing::HasSubstr("non-finite"));
+  EXPECT_EQ(localizer.trajectory().size(), 3u);
+  EXPECT_THAT(localizer.CurrentPose(), IsNearPose(before, 1e-12, 1e-12));
+}
+
+// A newer map version (the server's global map grows as robots map): the filter moves to it
+// between scans and keeps tracking.
+TEST(MclLocalizerTest, ANewerMapReplacesTheOldOneAndTrackingGoesOn) {
+  const Room room = AsymmetricRoom();
+  // The first version knows only the room's west half.
+  OccupancyGrid west = room.grid;
+  for (int y = 0; y < west.height(); ++y) {
+    for (int x = 0; x < west.width(); ++x) {
+      const CellIndex cell(x, y);
+      if (west.CellCenter(cell).x() > 4.0) west.SetLogOdds(cell, 0.0f);
+    }
+  }
+  MclLocalizerOptions options = SmallOptions(9);
+  options.initial_pose = Rigid2d(2.0, 2.2, 0.0);
+  MclLocalizer localizer(west, options);
+  std::vector<StampedPose> truth = Drive(room, *options.initial_pose, 20, Rigid2d(), &localizer);
+  const double west_area = localizer.filter().free_space().area();
+  localizer.SetMap(room.grid);
+  EXPECT_GT(localizer.filter().free_space().area(), 1.5 * west_area);
+  EXPECT_EQ(localizer.trajectory().size(), 20u) << "the map changes, not the poses";
+  const std::vector<StampedPose> more =
+      Drive(room, truth.back().pose * Rigid2d(0.08, 0.0, 0.1), 40, Rigid2d(), &localizer, 2.0);
+  ASSERT_EQ(localizer.trajectory().size(), 60u);
+  for (size_t i = 0; i < more.size(); ++i) {
+    EXPECT_THAT(localizer.trajectory()[20 + i].pose, IsNearPose(more[i].pose, 0.1, 0.05)) << i;
+  }
+}
+
+TEST(MclLocalizerTest, AnotherRobotsDensityPicksTheRightModeInASymmetricRoom) {
+  const Room room = SymmetricRoom();
+  MclLocalizer localizer(room.grid, SmallOptions(2));
+  const std::vector<StampedPose> truth =
+      Drive(room, Rigid2d(1.5, 0.8, 0.0), 20, Rigid2d(), &localizer);
+  const Rigid2d& at = truth.back().pose;
+  ASSERT_GT(MassNear(localizer.filter().particles(), SymmetricTwin(room, at)), 0.1);
+  ASSERT_FALSE(localizer.estimate().converged);
+
+  // What a focused observer would send: the robot's position within 5 cm, no heading.
+  PoseDensity density;
+  density.observer_id = "robot2";
+  density.observed_id = "robot1";
+  density.timestamp = truth.back().timestamp;
+  PoseDensityKernel kernel;
+  kernel.weight = 1.0;
+  kernel.mean = at.translation();
+  kernel.covariance = 0.05 * 0.05 * Eigen::Matrix2d::Identity();
+  density.kernels.push_back(kernel);
+  ASSERT_TRUE(localizer.ApplyDensity(density));
+  EXPECT_GT(MassNear(localizer.filter().particles(), at), 0.8);
+  EXPECT_THAT(localizer.CurrentPose(), IsNearPose(at, 0.15, 0.1));
+  EXPECT_THAT(localizer.Statistics(), ::testing::HasSubstr("applied 1, refused 0, too soon 0"));
+
+  // The same robot again a moment later is mostly the same information: not applied.
+  density.timestamp += 0.1;
+  EXPECT_FALSE(localizer.ApplyDensity(density));
+  // An empty density is refused and changes nothing.
+  EXPECT_FALSE(localizer.ApplyDensity(PoseDensity()));
+  EXPECT_THAT(localizer.Statistics(), ::testing::HasSubstr("applied 1, refused 1, too soon 1"));
+}
+
+// Observer side: a focused robot says where the robot it sees is; a lost one keeps quiet.
+TEST(MclLocalizerTest, OnlyAFocusedRobotSaysWhereTheRobotItSeesIs) {
+  const Room room = AsymmetricRoom();
+  MclLocalizerOptions options = SmallOptions(4);
+  options.initial_pose = Rigid2d(2.0, 2.2, 0.0);
+  MclLocalizer focused(room.grid, options);
+  const std::vector<StampedPose> truth =
+      Drive(room, *options.initial_pose, 10, Rigid2d(), &focused);
+  ASSERT_TRUE(focused.estimate().converged);
+  RobotDetection detection;
+  detection.observer_id = "robot2";
+  detection.observed_id = "robot1";
+  detection.timestamp = truth.back().timestamp;
+  detection.position_in_observer = Eigen::Vector2d(2.0, 0.5);
+  detection.covariance = 0.02 * 0.02 * Eigen::Matrix2d::Identity();
+  const std::optional<PoseDensity> density = focused.DensityOfSeenRobot(detection);
+  ASSERT_TRUE(density.has_value());
+  EXPECT_EQ(density->observed_id, "robot1");
+  EXPECT_FALSE(density->has_heading);
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const PoseDensityKernel& kernel : density->kernels) mean += kernel.weight * kernel.mean;
+  EXPECT_LT((mean - truth.back().pose * detection.position_in_observer).norm(), 0.1);
+  EXPECT_THAT(focused.Statistics(), ::testing::HasSubstr("densities of robots it saw: 1"));
+
+  MclLocalizer lost(room.grid, SmallOptions(4));
+  EXPECT_FALSE(lost.DensityOfSeenRobot(detection).has_value());
+}
+
+}  // namespace
+}  // namespace fleetmap
