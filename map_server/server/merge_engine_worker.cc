@@ -129,6 +129,7 @@ void MergeEngineWorker::Apply(const MergeEvent& event) {
       const RobotDetection& detection = event.detection->detection;
       if (!detection_seqs_.insert(event.detection->seq).second) return;
       new_detections_.push_back(DetectionRef{detection.observer_id, event.detection->detection_id});
+      if (InvolvesLocalizationOnly(detection)) return;
       std::string error;
       if (!engine_->AddDetection(detection, &error)) {
         std::cerr << "fleetmap-server: merge engine refused detection "
@@ -190,6 +191,14 @@ void MergeEngineWorker::ApplySubmap(const StoredSubmap& stored) {
   submap_revisions_[{submap.robot_id, submap.submap_id}] = submap.revision;
   engine_inputs_ = true;
   dirty_ = true;  // the submap changes the map (if placed) or the unplaced counts
+}
+
+bool MergeEngineWorker::InvolvesLocalizationOnly(const RobotDetection& detection) const {
+  for (const std::string& id : {detection.observer_id, detection.observed_id}) {
+    const auto robot = robots_.find(id);
+    if (robot != robots_.end() && robot->second.localization_only) return true;
+  }
+  return false;
 }
 
 void MergeEngineWorker::ApplyTrajectory(const std::string& robot_id) {
@@ -255,6 +264,7 @@ void MergeEngineWorker::Rebuild(const std::string& trigger) {
   std::string error;
   for (const DetectionRecord& record : store_->DetectionsAfter(0)) {
     if (!detection_seqs_.insert(record.seq).second) continue;
+    if (InvolvesLocalizationOnly(record.detection)) continue;
     if (!engine_->AddDetection(record.detection, &error)) continue;
   }
   // Fold everything in before serving placements, so a restart does not show robots unplaced.

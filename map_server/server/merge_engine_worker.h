@@ -58,6 +58,9 @@ class MergeEngineWorker : public MergeWorker {
   void ApplyRobot(const std::string& robot_id);
   void ApplySubmap(const StoredSubmap& stored);
   void ApplyTrajectory(const std::string& robot_id);
+  // Detections to or from a robot localizing in a known map: the engine, which merges the
+  // robots' own maps, has no use for them (they are stored, and listed in the provenance).
+  bool InvolvesLocalizationOnly(const RobotDetection& detection) const;
   // Runs the engine once and records what it did; false when nothing changed.
   void RunEngine();
   // A fresh engine fed with everything in the store.

@@ -59,6 +59,8 @@ class Agent {
   void StartLocalization(std::unique_ptr<MclLocalizer> localizer);
   // Collaborative localization: what other robots said about this one, into the filter.
   void ApplyReceivedDensities();
+  // The filter's state for the status lines (read on another thread).
+  void NoteLocalization();
   bool stop_requested() const;
   // Sleeps until `seconds` from now or a stop request; false when stopped.
   bool SleepFor(double seconds);
@@ -77,6 +79,9 @@ class Agent {
   bool follows_server_map_ = false;             // localizing in the server's map, not a file
   std::unique_ptr<DensityExchange> densities_;  // localization mode with share_detections
   std::atomic<int64_t> server_map_version_{0};  // the version it localizes in (status lines)
+  std::atomic<bool> converged_{false};          // the filter's estimate converged
+  std::atomic<bool> globally_localizing_{false};  // ... from a global start, not confirmed
+  std::atomic<double> localization_std_{0.0};     // metres, its largest position std
   std::unique_ptr<Uploader> uploader_;
   std::unique_ptr<MapSubscriber> subscriber_;
 

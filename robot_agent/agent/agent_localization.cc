@@ -81,4 +81,11 @@ void Agent::FollowServerMap() {
   localizer_->SetMap(Dequantize(view->grid));
 }
 
+void Agent::NoteLocalization() {
+  if (!localizer_) return;
+  converged_ = localizer_->estimate().converged;
+  globally_localizing_ = localizer_->filter().globally_localizing();
+  localization_std_ = MaxPositionStd(localizer_->estimate().covariance);
+}
+
 }  // namespace fleetmap

@@ -52,6 +52,7 @@ int Agent::Run(bool stay) {
       exit_code = kAgentFailed;
       break;
     }
+    NoteLocalization();
   }
   if (!source_->error().empty()) {
     Log("error: " + source_->error());
@@ -138,7 +139,15 @@ std::string Agent::StatusLine() const {
     line << " | map " << (subscriber_->streaming() ? "streaming" : "not streaming");
     if (map) line << " v" << map->version;
   }
-  if (follows_server_map_) line << " | localizing in map v" << server_map_version_;
+  if (localizer_) {
+    line << " | MCL " << (converged_ ? "converged" : "not converged") << " (std "
+         << localization_std_.load() << " m";
+    // After a global start the filter can converge on a look-alike place (docs/BENCHMARKS.md,
+    // issue 10, session 35) until another robot's detection confirms it.
+    if (globally_localizing_) line << ", global start not confirmed by a detection";
+    line << ")";
+  }
+  if (follows_server_map_) line << " in map v" << server_map_version_;
   if (densities_) {
     const DensityExchangeStats d = densities_->stats();
     line << " | densities sent=" << d.sent << " delivered=" << d.delivered

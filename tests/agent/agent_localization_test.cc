@@ -174,6 +174,8 @@ TEST_F(AgentLocalizationTest, LocalizesInTheServersMapAndInAMapFileAndUploadsGlo
       << output;
   EXPECT_THAT(output, HasSubstr("localization (MCL) in the server's global map"));
   EXPECT_THAT(output, HasSubstr("localization: map version"));
+  EXPECT_THAT(output,
+              ::testing::ContainsRegex("\\| MCL converged \\(std 0\\.[0-9] m\\) in map v[1-9]"));
   EXPECT_THAT(output, HasSubstr("scans=300 submaps queued=0"));
   EXPECT_THAT(output, HasSubstr("rejected=0"));
   // Exact odometry and ranges: what is left is the map's error and the filter's spread.
@@ -209,6 +211,8 @@ TEST_F(AgentLocalizationTest, LocalizesInTheServersMapAndInAMapFileAndUploadsGlo
   ASSERT_EQ(Run(WriteConfig("lost", "", lost), "lost", &output), std::optional<int>(0)) << output;
   EXPECT_THAT(output, HasSubstr("localization (MCL) in " + dir_.path() + "/room.yaml"));
   EXPECT_THAT(output, HasSubstr("first converged after"));
+  EXPECT_THAT(output, HasSubstr("| MCL converged (std"));
+  EXPECT_THAT(output, HasSubstr("global start not confirmed by a detection"));
   const Errors lost_robot = PoseErrors("lost", 200);
   EXPECT_LT(lost_robot.mean_position, 0.05);
   EXPECT_LT(lost_robot.mean_heading, 0.02);

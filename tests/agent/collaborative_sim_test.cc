@@ -98,6 +98,9 @@ TEST(CollaborativeLocalizationTest, ALostRobotIsLocalizedByWhatAnotherRobotSaysT
   // when this test was written); the server relays what robot2 saw.
   const std::string status = RunPair(scenario, temp.path(), server->port(), true);
   EXPECT_THAT(status, ::testing::Not(::testing::HasSubstr("received=0"))) << status;
+  // robot2's detection confirmed where robot1's filter converged.
+  EXPECT_THAT(status, ::testing::HasSubstr("MCL converged")) << status;
+  EXPECT_THAT(status, ::testing::Not(::testing::HasSubstr("not confirmed"))) << status;
   const auto [position, heading] = WorstErrorAtTheEnd(*server, truth, 4.0);
   std::printf("robot1 (lost, told by robot2): worst error over the last 4 s %.3f m, %.2f deg\n",
               position, heading * 180.0 / M_PI);

@@ -1,14 +1,15 @@
 // fleetmap-localize: replays MRCLAM or simulator runs (and measures the filter's update rate)
 // to report localization error over time, time to converge, and a PNG plot of error vs time.
 
+#include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "robot_agent/localization/tool/error_plot.h"
+#include "robot_agent/localization/tool/log_command.h"
 #include "robot_agent/localization/tool/mrclam_reader.h"
 #include "robot_agent/localization/tool/mrclam_replay.h"
 #include "robot_agent/localization/tool/rate_benchmark.h"
@@ -194,8 +195,54 @@ int main(int argc, char** argv) {
   sim->add_option("--plot-max-error", sim_options.plot_max_error, "Top of the error axis (m)")
       ->capture_default_str();
 
+  CLI::App* log_command = app.add_subcommand(
+      "log",
+      "The agent's localizer over a CARMEN log in a known map (e.g. the map fleetmap-slam "
+      "made of the same log): one pose per scan to a trajectory file");
+  LogCommandOptions log_options;
+  std::vector<double> initial_pose;
+  log_command->add_option("--log", log_options.log_path, "CARMEN log (plain, .gz or .bz2)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  log_command->add_option("--map", log_options.map_path, "ROS map (YAML + image)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  log_command->add_option("--out", log_options.out_path, "Trajectory file to write")->required();
+  log_command
+      ->add_option("--initial-pose", initial_pose,
+                   "x y theta of the first scan in the map (m, m, rad); without it the robot "
+                   "localizes globally")
+      ->expected(3);
+  log_command
+      ->add_option("--initial-std", log_options.localizer.initial_position_std,
+                   "Position std around --initial-pose (m)")
+      ->capture_default_str();
+  log_command
+      ->add_option("--particles", log_options.localizer.mcl.kld.max_particles, "Maximum particles")
+      ->capture_default_str()
+      ->check(CLI::Range(10, 1000000));
+  log_command
+      ->add_option("--beams", log_options.localizer.laser.max_beams, "Laser returns per update")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000));
+  log_command->add_option("--seed", log_options.localizer.mcl.seed, "Random seed")
+      ->capture_default_str();
+  log_command
+      ->add_option("--max-range", log_options.max_range,
+                   "Readings at or above it are no-returns (m)")
+      ->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   if (sim->parsed()) return RunSimCommand(sim_options);
+  if (log_command->parsed()) {
+    if (!initial_pose.empty()) {
+      log_options.localizer.initial_pose =
+          Rigid2d(initial_pose[0], initial_pose[1], initial_pose[2]);
+    }
+    log_options.localizer.mcl.kld.min_particles = std::min(
+        log_options.localizer.mcl.kld.min_particles, log_options.localizer.mcl.kld.max_particles);
+    return RunLogCommand(log_options);
+  }
   if (mrclam->parsed()) {
     options.known_start = start == "known";
     return RunMrclam(data, robots, mode, options, plot_prefix, plot_max_error);
