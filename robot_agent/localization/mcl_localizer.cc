@@ -56,17 +56,37 @@ bool MclLocalizer::AddScan(const LaserScan& scan, std::string* error) {
   }
   last_input_time_ = scan.timestamp;
   if (trajectory_.empty()) first_scan_time_ = scan.timestamp;
-  if (odometry_) {
-    if (odometry_at_last_scan_) mcl_.Predict(odometry_at_last_scan_->inverse() * odometry_->pose);
-    odometry_at_last_scan_ = odometry_->pose;
+  if (odometry_ && !odometry_at_particles_) odometry_at_particles_ = odometry_->pose;
+  const Rigid2d pending = PendingMotion();
+  if (updates_ == 0 || pending.translation().norm() >= options_.update_min_translation ||
+      std::abs(pending.rotation()) >= options_.update_min_rotation ||
+      (options_.update_max_interval > 0.0 && !mcl_.globally_localizing() &&
+       scan.timestamp - last_update_time_ >= options_.update_max_interval)) {
+    last_update_time_ = scan.timestamp;
+    FlushMotion();
+    mcl_.UpdateLaser(scan, model_);
+    estimate_ = mcl_.Estimate();
+    ++updates_;
+    if (estimate_.converged && time_to_converge_ < 0.0) {
+      time_to_converge_ = scan.timestamp - first_scan_time_;
+    }
   }
-  mcl_.UpdateLaser(scan, model_);
-  estimate_ = mcl_.Estimate();
-  if (estimate_.converged && time_to_converge_ < 0.0) {
-    time_to_converge_ = scan.timestamp - first_scan_time_;
-  }
-  trajectory_.push_back({scan.timestamp, estimate_.robot_in_map});
+  trajectory_.push_back({scan.timestamp, CurrentPose()});
   return true;
+}
+
+Rigid2d MclLocalizer::PendingMotion() const {
+  if (!odometry_ || !odometry_at_particles_) return Rigid2d();
+  return odometry_at_particles_->inverse() * odometry_->pose;
+}
+
+void MclLocalizer::FlushMotion() {
+  if (!odometry_ || !odometry_at_particles_) return;
+  const Rigid2d pending = PendingMotion();
+  odometry_at_particles_ = odometry_->pose;
+  if (pending.translation().isZero(0.0) && pending.rotation() == 0.0) return;
+  mcl_.Predict(pending);
+  estimate_ = mcl_.Estimate();
 }
 
 void MclLocalizer::SetMap(const OccupancyGrid& map) {
@@ -74,9 +94,10 @@ void MclLocalizer::SetMap(const OccupancyGrid& map) {
   model_ = LikelihoodFieldModel(LikelihoodField(map, LikelihoodFieldOptions()), options_.laser);
 }
 
-Rigid2d MclLocalizer::CurrentPose() const { return estimate_.robot_in_map; }
+Rigid2d MclLocalizer::CurrentPose() const { return estimate_.robot_in_map * PendingMotion(); }
 
 std::optional<PoseDensity> MclLocalizer::DensityOfSeenRobot(const RobotDetection& detection) {
+  FlushMotion();  // the particles where the robot is now
   std::optional<PoseDensity> density =
       SummarizeDetection(mcl_.particles(), detection, options_.summary, mcl_.rng());
   if (density) ++densities_sent_;
@@ -84,6 +105,7 @@ std::optional<PoseDensity> MclLocalizer::DensityOfSeenRobot(const RobotDetection
 }
 
 bool MclLocalizer::ApplyDensity(const PoseDensity& density) {
+  FlushMotion();
   if (!gate_.Allow(density.observer_id, density.observed_id, density.timestamp,
                    mcl_.globally_localizing())) {
     ++densities_skipped_;
@@ -102,7 +124,7 @@ std::string MclLocalizer::Statistics() const {
   std::ostringstream out;
   out.setf(std::ios::fixed);
   out.precision(2);
-  out << "MCL: " << trajectory_.size() << " scans, "
+  out << "MCL: " << trajectory_.size() << " scans (" << updates_ << " laser corrections), "
       << (estimate_.converged ? "converged" : "not converged") << " (position std "
       << MaxPositionStd(estimate_.covariance) << " m, heading std "
       << std::sqrt(std::max(0.0, estimate_.covariance(2, 2))) << " rad, "

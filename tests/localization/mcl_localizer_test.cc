@@ -82,6 +82,44 @@ TEST(MclLocalizerTest, AUniformStartConvergesAndSaysWhen) {
   EXPECT_THAT(localizer.Statistics(), ::testing::HasSubstr("first converged after"));
 }
 
+// The same scan again from a robot standing still is not new evidence: after a global start the
+// laser corrects only once the robot moves; from a known start, once a second.
+TEST(MclLocalizerTest, AStandingRobotIsCorrectedOnlyOnceItMovesOrOnceASecondWhenTracking) {
+  const Room room = AsymmetricRoom();
+  const Rigid2d at(2.0, 2.2, 0.0);
+  LaserScan scan = SimulateScan(room.walls, at);
+  std::string error;
+  MclLocalizerOptions known_start = SmallOptions(6);
+  known_start.initial_pose = at;
+  for (const bool global : {true, false}) {
+    MclLocalizer localizer(room.grid, global ? SmallOptions(6) : known_start);
+    for (int i = 0; i < 30; ++i) {  // 3 s at 10 Hz
+      scan.timestamp = 0.1 * i;
+      ASSERT_TRUE(localizer.AddOdometry({scan.timestamp, Rigid2d(5.0, 5.0, 1.0)}, &error));
+      ASSERT_TRUE(localizer.AddScan(scan, &error));
+    }
+    EXPECT_THAT(localizer.Statistics(),
+                ::testing::HasSubstr(global ? "30 scans (1 laser corrections)"
+                                            : "30 scans (3 laser corrections)"));
+  }
+}
+
+// Between corrections odometry carries the reported pose.
+TEST(MclLocalizerTest, BetweenCorrectionsOdometryCarriesThePose) {
+  const Room room = AsymmetricRoom();
+  MclLocalizerOptions options = SmallOptions(8);
+  options.initial_pose = Rigid2d(2.0, 2.2, 0.3);
+  options.update_min_translation = 0.3;  // every fourth scan of 0.08 m
+  options.update_min_rotation = 1.0;
+  MclLocalizer localizer(room.grid, options);
+  const std::vector<StampedPose> truth =
+      Drive(room, *options.initial_pose, 40, Rigid2d(1.0, -2.0, 0.5), &localizer);
+  EXPECT_THAT(localizer.Statistics(), ::testing::HasSubstr("40 scans (10 laser corrections)"));
+  for (size_t i = 5; i < truth.size(); ++i) {
+    EXPECT_THAT(localizer.trajectory()[i].pose, IsNearPose(truth[i].pose, 0.1, 0.05)) << i;
+  }
+}
+
 TEST(MclLocalizerTest, RefusesInputOutOfOrderOrNotFiniteAndKeepsItsState) {
   const Room room = AsymmetricRoom();
   MclLocalizerOptions options = SmallOptions(5);

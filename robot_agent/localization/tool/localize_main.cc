@@ -225,6 +225,21 @@ int main(int argc, char** argv) {
       ->add_option("--beams", log_options.localizer.laser.max_beams, "Laser returns per update")
       ->capture_default_str()
       ->check(CLI::Range(1, 10000));
+  log_command
+      ->add_option("--update-min-translation", log_options.localizer.update_min_translation,
+                   "Motion (m) between laser corrections; odometry carries the pose in between")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 100.0));
+  log_command
+      ->add_option("--update-min-rotation", log_options.localizer.update_min_rotation,
+                   "Or this rotation (rad)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10.0));
+  log_command
+      ->add_option("--update-max-interval", log_options.localizer.update_max_interval,
+                   "Or this long since the previous correction (s; 0: never on time alone)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 3600.0));
   log_command->add_option("--seed", log_options.localizer.mcl.seed, "Random seed")
       ->capture_default_str();
   log_command
