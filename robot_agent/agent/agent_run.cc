@@ -150,8 +150,9 @@ std::string Agent::StatusLine() const {
   if (follows_server_map_) line << " in map v" << server_map_version_;
   if (densities_) {
     const DensityExchangeStats d = densities_->stats();
-    line << " | densities sent=" << d.sent << " delivered=" << d.delivered
-         << " failed=" << d.send_failed << " received=" << d.received << " dropped=" << d.dropped;
+    line << " | densities " << (densities_->subscribed() ? "listening" : "not listening")
+         << " sent=" << d.sent << " delivered=" << d.delivered << " failed=" << d.send_failed
+         << " received=" << d.received << " dropped=" << d.dropped;
   }
   return line.str();
 }

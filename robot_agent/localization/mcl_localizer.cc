@@ -105,6 +105,10 @@ std::optional<PoseDensity> MclLocalizer::DensityOfSeenRobot(const RobotDetection
 }
 
 bool MclLocalizer::ApplyDensity(const PoseDensity& density) {
+  if (!(std::abs(density.timestamp - last_input_time_) <= options_.max_density_age)) {
+    ++densities_stale_;
+    return false;
+  }
   FlushMotion();
   if (!gate_.Allow(density.observer_id, density.observed_id, density.timestamp,
                    mcl_.globally_localizing())) {
@@ -132,7 +136,7 @@ std::string MclLocalizer::Statistics() const {
   if (time_to_converge_ >= 0.0) out << ", first converged after " << time_to_converge_ << " s";
   out << "; densities of robots it saw: " << densities_sent_ << "; densities from others: applied "
       << densities_applied_ << ", refused " << densities_refused_ << ", too soon "
-      << densities_skipped_;
+      << densities_skipped_ << ", stale " << densities_stale_;
   return out.str();
 }
 

@@ -45,6 +45,11 @@ struct MclLocalizerOptions {
   // ones carry almost the same information.
   double density_interval = 2.0;
   double lost_density_interval = 0.5;
+  // A density says where the robot was at its timestamp: applied only while that is within
+  // this many seconds of the robot's latest input (its clock and the observer's must agree,
+  // e.g. NTP). Older ones (a queue that waited, a robot that replays a log) would pull the
+  // belief back to where the robot was.
+  double max_density_age = 1.0;
 };
 
 // Monte Carlo localization behind the agent's LocalSlam interface, so that the agent's pipeline
@@ -86,8 +91,8 @@ class MclLocalizer : public LocalSlam {
   // speak (DetectionSummaryOptions) or the detection is malformed.
   std::optional<PoseDensity> DensityOfSeenRobot(const RobotDetection& detection);
   // Observed side: another robot's density of this robot's pose. False (belief unchanged) when
-  // it was unusable or came too soon after the previous one from the same robot. Counted in
-  // Statistics().
+  // it was unusable, stale (max_density_age) or came too soon after the previous one from the
+  // same robot. Counted in Statistics().
   bool ApplyDensity(const PoseDensity& density);
 
  private:
@@ -111,6 +116,7 @@ class MclLocalizer : public LocalSlam {
   DetectionGate gate_;
   int64_t densities_sent_ = 0;
   int64_t densities_skipped_ = 0;  // by the gate
+  int64_t densities_stale_ = 0;    // too old or too new (max_density_age)
   int64_t densities_applied_ = 0;
   int64_t densities_refused_ = 0;
 };

@@ -189,14 +189,23 @@ TEST(MclLocalizerTest, AnotherRobotsDensityPicksTheRightModeInASymmetricRoom) {
   ASSERT_TRUE(localizer.ApplyDensity(density));
   EXPECT_GT(MassNear(localizer.filter().particles(), at), 0.8);
   EXPECT_THAT(localizer.CurrentPose(), IsNearPose(at, 0.15, 0.1));
-  EXPECT_THAT(localizer.Statistics(), ::testing::HasSubstr("applied 1, refused 0, too soon 0"));
+  EXPECT_THAT(localizer.Statistics(),
+              ::testing::HasSubstr("applied 1, refused 0, too soon 0, stale 0"));
 
   // The same robot again a moment later is mostly the same information: not applied.
   density.timestamp += 0.1;
   EXPECT_FALSE(localizer.ApplyDensity(density));
   // An empty density is refused and changes nothing.
-  EXPECT_FALSE(localizer.ApplyDensity(PoseDensity()));
-  EXPECT_THAT(localizer.Statistics(), ::testing::HasSubstr("applied 1, refused 1, too soon 1"));
+  PoseDensity empty;
+  empty.timestamp = truth.back().timestamp;
+  EXPECT_FALSE(localizer.ApplyDensity(empty));
+  // One from 5 s ago says where the robot was, not where it is.
+  PoseDensity old = density;
+  old.observer_id = "robot3";
+  old.timestamp -= 5.0;
+  EXPECT_FALSE(localizer.ApplyDensity(old));
+  EXPECT_THAT(localizer.Statistics(),
+              ::testing::HasSubstr("applied 1, refused 1, too soon 1, stale 1"));
 }
 
 // Observer side: a focused robot says where the robot it sees is; a lost one keeps quiet.
