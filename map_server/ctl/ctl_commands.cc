@@ -128,6 +128,9 @@ int RunRobots(const CtlContext& context, bool with_trajectories) {
     if (r.placement().placed()) {
       out << "placed " << FormatPose(r.placement().local_in_global()) << " ["
           << r.placement().source() << "]";
+      if (r.placement().has_start_in_global()) {
+        out << "  started at " << FormatPose(r.placement().start_in_global());
+      }
     } else {
       out << "UNPLACED (" << r.placement().note() << ")";
     }

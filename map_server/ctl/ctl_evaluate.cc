@@ -7,8 +7,10 @@
 #include <iomanip>
 #include <iostream>
 
+#include "map_server/ctl/localization_error.h"
 #include "shared/eval/wall_score.h"
 #include "shared/io/map_file.h"
+#include "shared/io/trajectory_file.h"
 
 namespace fleetmap {
 
@@ -78,11 +80,29 @@ int RunEvaluate(const CtlContext& context, const EvaluateOptions& options) {
     std::cerr << "fleetmapctl: " << error << "\n";
     return 1;
   }
+  // Localizing robots: ID=TRUE_TRAJECTORY, read before asking the server.
+  std::vector<std::pair<std::string, Trajectory>> localized;
+  for (const std::string& item : options.localized) {
+    const size_t equals = item.find('=');
+    Trajectory true_poses;
+    if (equals == std::string::npos || equals == 0) {
+      std::cerr << "fleetmapctl: --localized: expected ROBOT=TRUE_TRAJECTORY, got '" << item
+                << "'\n";
+      return 1;
+    }
+    if (!ReadTrajectory(item.substr(equals + 1), &true_poses, &error)) {
+      std::cerr << "fleetmapctl: --localized: " << error << "\n";
+      return 1;
+    }
+    localized.emplace_back(item.substr(0, equals), std::move(true_poses));
+  }
+  v1::GetRobotsRequest request;
+  request.set_include_trajectories(!localized.empty());
   v1::GetRobotsResponse response;
   grpc::ClientContext rpc;
   rpc.set_deadline(std::chrono::system_clock::now() +
                    std::chrono::milliseconds(static_cast<int64_t>(context.timeout_seconds * 1e3)));
-  const grpc::Status status = context.stub->GetRobots(&rpc, v1::GetRobotsRequest(), &response);
+  const grpc::Status status = context.stub->GetRobots(&rpc, request, &response);
   if (!status.ok()) {
     std::cerr << "fleetmapctl: evaluate failed: " << status.error_message() << "\n";
     return 1;
@@ -120,6 +140,37 @@ int RunEvaluate(const CtlContext& context, const EvaluateOptions& options) {
         ScoreOnWallsBestFit(global_map, world_from_global, walls).fraction();
   }
 
+  // The world frame through the reference robot (the first placed robot of the ground truth).
+  std::optional<Rigid2d> world_from_global;
+  for (const auto& [name, start] : truth) {
+    if (placements.count(name)) {
+      world_from_global = start * placements.at(name).inverse();
+      break;
+    }
+  }
+  std::vector<std::pair<std::string, LocalizationError>> localization;
+  for (const auto& [id, true_poses] : localized) {
+    const v1::RobotInfo* robot = nullptr;
+    for (const v1::RobotInfo& r : response.robots()) {
+      if (r.robot_id() == id) robot = &r;
+    }
+    if (!robot) {
+      std::cerr << "fleetmapctl: --localized: the server has no robot '" << id << "'\n";
+      return 1;
+    }
+    if (!world_from_global) {
+      std::cerr << "fleetmapctl: --localized: no robot of the ground truth is placed, so the "
+                   "global frame cannot be related to the world\n";
+      return 1;
+    }
+    Trajectory in_world;
+    for (const v1::StampedPose& p : robot->trajectory_in_global()) {
+      in_world.push_back({p.timestamp(), *world_from_global * Rigid2d(p.pose().x(), p.pose().y(),
+                                                                      p.pose().theta())});
+    }
+    localization.emplace_back(id, ScoreTrajectory(in_world, true_poses));
+  }
+
   double worst_t = 0.0, worst_r = 0.0;
   for (const PairError& e : evaluation.pairs) {
     worst_t = std::max(worst_t, e.translation_error);
@@ -148,6 +199,20 @@ int RunEvaluate(const CtlContext& context, const EvaluateOptions& options) {
           << ",\n  \"map_accuracy_best_fit\": " << *evaluation.map_accuracy_best_fit
           << ",\n  \"occupied_cells\": " << evaluation.occupied_cells;
     }
+    if (!localization.empty()) {
+      out << ",\n  \"localization\": [";
+      for (size_t i = 0; i < localization.size(); ++i) {
+        const LocalizationError& e = localization[i].second;
+        out << (i ? ",\n" : "\n") << "    {\"robot\": \"" << localization[i].first
+            << "\", \"poses\": " << e.matched << std::setprecision(4)
+            << ", \"mean_position_error_m\": " << e.mean_position
+            << ", \"max_position_error_m\": " << e.max_position
+            << ", \"mean_heading_error_deg\": " << e.mean_heading * 180 / M_PI
+            << ", \"max_heading_error_deg\": " << e.max_heading * 180 / M_PI
+            << ", \"final_position_error_m\": " << e.final_position << "}";
+      }
+      out << "\n  ]";
+    }
     out << "\n}\n";
   } else {
     out << "merge against ground truth (" << truth.size() << " robots, " << placements.size()
@@ -167,6 +232,14 @@ int RunEvaluate(const CtlContext& context, const EvaluateOptions& options) {
           << evaluation.occupied_cells << " occupied cells within " << options.tolerance_cells
           << " cell of a true wall (" << *evaluation.map_accuracy_best_fit * 100.0
           << " % at the best rigid placement within 0.18 m / 0.35 deg)\n";
+    }
+    for (const auto& [id, e] : localization) {
+      out << "  " << id << " (localizing in the global map): " << e.matched
+          << " poses scored; mean " << std::setprecision(3) << e.mean_position << " m, "
+          << std::setprecision(2) << e.mean_heading * 180 / M_PI << " deg; worst "
+          << std::setprecision(3) << e.max_position << " m, " << std::setprecision(2)
+          << e.max_heading * 180 / M_PI << " deg; at the end " << std::setprecision(3)
+          << e.final_position << " m\n";
     }
   }
   return evaluation.unplaced.empty() ? 0 : 2;

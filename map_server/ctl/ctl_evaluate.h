@@ -21,6 +21,10 @@ struct EvaluateOptions {
   std::string map;
   std::string world;
   int tolerance_cells = 1;  // "within one cell of a true wall": see WallMask
+  // Robots localizing in the global map, each as "ID=TRUE_TRAJECTORY" (the simulator's
+  // <robot>.gt.txt of the robot it drove): their poses are scored in the world, through the
+  // reference robot's placement.
+  std::vector<std::string> localized;
 };
 
 // How far one robot's placement is from the truth, relative to the reference robot.

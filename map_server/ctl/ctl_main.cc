@@ -60,6 +60,9 @@ int main(int argc, char** argv) {
                        "this many cells of it (along x and y)")
       ->capture_default_str()
       ->check(CLI::Range(0, 10));
+  evaluate->add_option("--localized", evaluate_options.localized,
+                       "ROBOT=TRUE_TRAJECTORY: score a robot localizing in the global map against "
+                       "its true poses (e.g. the simulator's robot1.gt.txt); repeatable");
 
   CLI11_PARSE(app, argc, argv);
   auto channel = fleetmap::MakeClientChannel(server);

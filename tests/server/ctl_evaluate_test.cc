@@ -4,6 +4,7 @@
 
 #include <fstream>
 
+#include "map_server/ctl/localization_error.h"
 #include "tests/support/test_support.h"
 
 namespace fleetmap {
@@ -53,6 +54,25 @@ TEST(CtlEvaluateTest, BadGroundTruthFilesAreErrors) {
   std::ofstream(dir + "/ok.yaml") << "robots:\n  - name: a\n    start: {x: 1, y: 2, theta: 0.5}\n";
   ASSERT_TRUE(ReadStartPoses(dir + "/ok.yaml", &starts, &error)) << error;
   EXPECT_NEAR(starts.at("a").y(), 2.0, 1e-12);
+}
+
+// A localizing robot's poses against its true ones: matched by time, offsets measured exactly.
+TEST(CtlEvaluateTest, LocalizationErrorMatchesPosesByTimeAndMeasuresTheOffsets) {
+  Trajectory truth, estimated;
+  for (int i = 0; i < 10; ++i) truth.push_back({0.06 * i, Rigid2d(0.1 * i, 0.0, 0.0)});
+  // Three poses at true times (0.1 m, 0.3 m and 0.2 m / 0.1 rad off), one between ticks.
+  estimated.push_back({0.0, Rigid2d(0.0, 0.1, 0.0)});
+  estimated.push_back({0.12 + 0.001, Rigid2d(0.2, -0.3, 0.0)});
+  estimated.push_back({0.09, Rigid2d(5.0, 5.0, 0.0)});
+  estimated.push_back({0.54, Rigid2d(0.9, 0.2, 0.1)});
+  const LocalizationError error = ScoreTrajectory(estimated, truth);
+  EXPECT_EQ(error.matched, 3);
+  EXPECT_NEAR(error.mean_position, 0.2, 1e-9);
+  EXPECT_NEAR(error.max_position, 0.3, 1e-9);
+  EXPECT_NEAR(error.final_position, 0.2, 1e-9);
+  EXPECT_NEAR(error.max_heading, 0.1, 1e-9);
+  EXPECT_NEAR(error.final_heading, 0.1, 1e-9);
+  EXPECT_EQ(ScoreTrajectory(estimated, Trajectory()).matched, 0);
 }
 
 }  // namespace
