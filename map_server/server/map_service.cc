@@ -52,6 +52,13 @@ Status MapServiceImpl::RegisterRobot(grpc::ServerContext* /*context*/,
   RobotRecord robot;
   Status status = FromProto(*request, Now(), &robot);
   if (!status.ok()) return status;
+  // Its submaps are part of the global map; a localizing robot's poses are in another frame.
+  if (robot.localization_only && store_->CountSubmapIds(robot.robot_id) > 0) {
+    return Status(StatusCode::FAILED_PRECONDITION,
+                  "robot \"" + robot.robot_id +
+                      "\" has mapped (its submaps are stored): give the localizing robot an id "
+                      "of its own");
+  }
   bool existed = false;
   std::string error;
   if (!store_->PutRobot(robot, &existed, &error)) {

@@ -27,8 +27,33 @@ MclLocalizer::MclLocalizer(const OccupancyGrid& map, const MclLocalizerOptions& 
     mcl_.InitializeGaussian(*options.initial_pose, Eigen::Vector3d(p, p, h).asDiagonal());
   } else {
     mcl_.InitializeUniform();
+    if (options.seeding.enabled) seeder_ = std::make_unique<ScanSeeder>(map, options.seeding);
   }
   estimate_ = mcl_.Estimate();
+}
+
+void MclLocalizer::SeedFromScan(const LaserScan& scan) {
+  if (!seeder_ || !mcl_.globally_localizing() ||
+      scan.timestamp - last_seed_time_ < options_.seeding.interval) {
+    return;
+  }
+  last_seed_time_ = scan.timestamp;
+  const std::optional<CorrelativeMatch> match = seeder_->Search(ToPointsInRobotFrame(scan));
+  if (!match) return;
+  const Rigid2d& estimate = estimate_.robot_in_map;
+  const bool agrees = estimate_.converged &&
+                      (estimate.translation() - match->pose.translation()).norm() <=
+                          options_.seeding.agreement_distance &&
+                      std::abs(NormalizeAngle(estimate.rotation() - match->pose.rotation())) <=
+                          options_.seeding.agreement_angle;
+  if (agrees) {
+    // The filter found the place the scan fits best: searching again costs and adds nothing.
+    if (++seed_agreements_ >= options_.seeding.agreements_to_stop) seeder_.reset();
+    return;
+  }
+  seed_agreements_ = 0;
+  seeder_->Seed(match->pose, &mcl_.mutable_particles(), mcl_.rng());
+  ++seeds_;
 }
 
 bool MclLocalizer::AddOdometry(const StampedPose& odometry, std::string* error) {
@@ -64,6 +89,7 @@ bool MclLocalizer::AddScan(const LaserScan& scan, std::string* error) {
        scan.timestamp - last_update_time_ >= options_.update_max_interval)) {
     last_update_time_ = scan.timestamp;
     FlushMotion();
+    SeedFromScan(scan);
     mcl_.UpdateLaser(scan, model_);
     estimate_ = mcl_.Estimate();
     ++updates_;
@@ -91,6 +117,7 @@ void MclLocalizer::FlushMotion() {
 
 void MclLocalizer::SetMap(const OccupancyGrid& map) {
   mcl_.set_free_space(FreeSpace::FromGrid(map));
+  if (seeder_) seeder_ = std::make_unique<ScanSeeder>(map, options_.seeding);
   model_ = LikelihoodFieldModel(LikelihoodField(map, LikelihoodFieldOptions()), options_.laser);
 }
 
@@ -121,6 +148,9 @@ bool MclLocalizer::ApplyDensity(const PoseDensity& density) {
   }
   ++densities_applied_;
   estimate_ = mcl_.Estimate();
+  // Another robot said where this one is. The search cannot tell look-alike places apart (in a
+  // symmetric building it prefers one twin), so it must not pull the belief back to its choice.
+  seeder_.reset();
   return true;
 }
 
@@ -134,6 +164,9 @@ std::string MclLocalizer::Statistics() const {
       << std::sqrt(std::max(0.0, estimate_.covariance(2, 2))) << " rad, "
       << estimate_.particle_count << " particles)";
   if (time_to_converge_ >= 0.0) out << ", first converged after " << time_to_converge_ << " s";
+  if (seeds_ > 0 || seeder_) {
+    out << "; scan-to-map seeds " << seeds_ << (seeder_ ? " (still searching)" : "");
+  }
   out << "; densities of robots it saw: " << densities_sent_ << "; densities from others: applied "
       << densities_applied_ << ", refused " << densities_refused_ << ", too soon "
       << densities_skipped_ << ", stale " << densities_stale_;

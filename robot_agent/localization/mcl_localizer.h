@@ -2,6 +2,7 @@
 #define FLEETMAP_ROBOT_AGENT_LOCALIZATION_MCL_LOCALIZER_H_
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "robot_agent/localization/collaborative_update.h"
 #include "robot_agent/localization/likelihood_field_model.h"
 #include "robot_agent/localization/mcl.h"
+#include "robot_agent/localization/scan_seeding.h"
 #include "robot_agent/slam/local_slam.h"
 #include "shared/core/occupancy_grid.h"
 
@@ -39,6 +41,8 @@ struct MclLocalizerOptions {
   // locks in whichever look-alike place leads (on intel, with 1 s, the truth was found after
   // 59-821 s against 30-637 s without). 0: never on time alone.
   double update_max_interval = 1.0;
+  // After a global start: scan-to-map search that moves some particles to the best match.
+  ScanSeedingOptions seeding;
   DensityUpdateOptions density;
   DetectionSummaryOptions summary;
   // Densities from one other robot are applied at most this often (DetectionGate): consecutive
@@ -100,6 +104,8 @@ class MclLocalizer : public LocalSlam {
   void FlushMotion();
   // The odometry increment since the particles were last moved.
   Rigid2d PendingMotion() const;
+  // After a global start, before a correction: some particles to where the scan fits best.
+  void SeedFromScan(const LaserScan& scan);
 
   Mcl mcl_;
   LikelihoodFieldModel model_;
@@ -109,6 +115,10 @@ class MclLocalizer : public LocalSlam {
   std::optional<StampedPose> odometry_;           // the latest reading
   std::optional<Rigid2d> odometry_at_particles_;  // the reading the particles were moved to
   int64_t updates_ = 0;                           // laser corrections
+  std::unique_ptr<ScanSeeder> seeder_;            // after a global start, until it agrees
+  double last_seed_time_ = -1e300;
+  int seed_agreements_ = 0;
+  int64_t seeds_ = 0;
   double last_update_time_ = 0.0;
   double last_input_time_ = -1e300;
   double first_scan_time_ = 0.0;

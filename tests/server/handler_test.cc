@@ -178,6 +178,18 @@ TEST_F(HandlerTest, ALocalizationOnlyRobotIsPlacedByItsMapAndSendsNoSubmaps) {
     request.set_localization_only(true);
     ASSERT_TRUE(service_.RegisterRobot(&context, &request, &response).ok());
   }
+  // A robot that has mapped cannot turn into a localizing one under the same id.
+  ASSERT_TRUE(Register("mapper", false).ok());
+  ASSERT_EQ(Upload("mapper", testing::MakeSubmapUpload(0, 0)).acks(0).code(), 0);
+  {
+    grpc::ServerContext context;
+    v1::RegisterRobotResponse response;
+    auto request = testing::MakeRegistration("mapper", false, Rigid2d());
+    request.set_localization_only(true);
+    const grpc::Status refused = service_.RegisterRobot(&context, &request, &response);
+    EXPECT_EQ(refused.error_code(), StatusCode::FAILED_PRECONDITION);
+    EXPECT_NE(refused.error_message().find("id of its own"), std::string::npos);
+  }
   grpc::Status status;
   Upload("in_global", testing::MakeSubmapUpload(0, 0), &status);
   EXPECT_EQ(status.error_code(), StatusCode::FAILED_PRECONDITION);
@@ -191,13 +203,13 @@ TEST_F(HandlerTest, ALocalizationOnlyRobotIsPlacedByItsMapAndSendsNoSubmaps) {
     const v1::GetRobotsRequest request;
     robots.Clear();
     ASSERT_TRUE(service_.GetRobots(&context, &request, &robots).ok());
-    if (robots.robots_size() == 2 && robots.robots(0).placement().placed() &&
+    if (robots.robots_size() == 3 && robots.robots(0).placement().placed() &&
         robots.robots(1).placement().placed()) {
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  ASSERT_EQ(robots.robots_size(), 2);
+  ASSERT_EQ(robots.robots_size(), 3);
   const v1::RobotPlacement& in_file = robots.robots(0).placement();  // sorted by id
   const v1::RobotPlacement& in_global = robots.robots(1).placement();
   EXPECT_TRUE(in_global.placed());

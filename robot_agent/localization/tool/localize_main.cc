@@ -240,6 +240,11 @@ int main(int argc, char** argv) {
                    "Or this long since the previous correction (s; 0: never on time alone)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 3600.0));
+  log_command
+      ->add_option("--scan-seeding", log_options.localizer.seeding.enabled,
+                   "After a global start, move some particles to where a scan-to-map search "
+                   "fits the scan best (true/false)")
+      ->capture_default_str();
   log_command->add_option("--seed", log_options.localizer.mcl.seed, "Random seed")
       ->capture_default_str();
   log_command
