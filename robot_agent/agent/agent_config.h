@@ -102,6 +102,9 @@ struct LocalizationConfig {
   int particles = 5000;               // the most the filter uses (KLD sampling uses fewer)
   int beams = 60;                     // laser returns per update
   int seed = 1;
+  // After a global start, a scan-to-map search moves some particles to where the scan fits best
+  // (robot_agent/localization/scan_seeding.h). It cannot tell twins apart.
+  bool scan_seeding = true;
   bool share_detections = true;
 };
 

@@ -152,7 +152,8 @@ TEST_F(AgentConfigTest, LocalizationModeIsParsedAndItsBadFieldsAreNamed) {
   const std::string with_file =
       Base() +
       "localization:\n  enabled: true\n  map: floor.yaml\n  initial_pose: {x: 1, y: 2, "
-      "theta: 0.5}\n  particles: 3000\n  beams: 90\n  seed: 4\n  share_detections: false\n";
+      "theta: 0.5}\n  particles: 3000\n  beams: 90\n  seed: 4\n  scan_seeding: false\n  "
+      "share_detections: false\n";
   AgentConfig config;
   std::string error;
   ASSERT_TRUE(Parse(with_file, &config, &error)) << error;
@@ -164,6 +165,7 @@ TEST_F(AgentConfigTest, LocalizationModeIsParsedAndItsBadFieldsAreNamed) {
   EXPECT_EQ(localization.particles, 3000);
   EXPECT_EQ(localization.beams, 90);
   EXPECT_EQ(localization.seed, 4);
+  EXPECT_FALSE(localization.scan_seeding);
   EXPECT_FALSE(localization.share_detections);
 
   const std::vector<std::pair<std::string, std::string>> cases = {
