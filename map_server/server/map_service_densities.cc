@@ -12,6 +12,7 @@ using grpc::Status;
 using grpc::StatusCode;
 
 constexpr int kMaxKernels = 256;
+constexpr char kDensitySubscribedKey[] = "fleetmap-density-subscribed";
 
 Status Invalid(const std::string& message) { return Status(StatusCode::INVALID_ARGUMENT, message); }
 
@@ -69,6 +70,10 @@ Status MapServiceImpl::SubscribePoseDensities(grpc::ServerContext* context,
                   "unknown robot \"" + request->robot_id() + "\": call RegisterRobot first");
   }
   const auto subscription = densities_.Subscribe(request->robot_id());
+  // Tells the robot at once that it is listening (a stream otherwise says nothing until the
+  // first density).
+  context->AddInitialMetadata(kDensitySubscribedKey, "1");
+  writer->SendInitialMetadata();
   // Wake up regularly to notice a cancelled client or a stopping server.
   while (!context->IsCancelled() && !feed_->closed()) {
     const std::optional<v1::PoseDensity> density =

@@ -98,10 +98,14 @@ void DensityExchange::SubscribeLoop() {
     request.set_robot_id(options_.robot_id);
     std::unique_ptr<grpc::ClientReader<v1::PoseDensity>> reader =
         stub_->SubscribePoseDensities(&context, request);
-    v1::PoseDensity message;
-    while (reader->Read(&message)) {
+    // The server marks a subscription that took in its first metadata (a refused call has none).
+    reader->WaitForInitialMetadata();
+    if (context.GetServerInitialMetadata().count("fleetmap-density-subscribed") > 0) {
       subscribed_ = true;
       failures = 0;
+    }
+    v1::PoseDensity message;
+    while (reader->Read(&message)) {
       PoseDensity density;
       std::lock_guard<std::mutex> lock(mutex_);
       if (!agent::FromProto(message, &density) || density.observed_id != options_.robot_id) {

@@ -26,15 +26,7 @@ std::shared_ptr<grpc::Channel> Channel(int port) {
                                    grpc::InsecureChannelCredentials(), args);
 }
 
-// Waits until `done()` or about `seconds`.
-template <typename F>
-bool WaitFor(F done, double seconds) {
-  for (int i = 0; i < seconds * 100; ++i) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return done();
-}
+using testing::WaitFor;
 
 void Upload(int port, Outbox* outbox, int64_t first_id, int count) {
   v1::RegisterRobotRequest registration;

@@ -4,8 +4,10 @@
 #include <grpcpp/grpcpp.h>
 
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "map_server/server/map_server.h"
@@ -55,6 +57,16 @@ std::string SubmapPayload(const std::string& robot_id, int64_t id, int64_t revis
 
 // Queues `count` finished submaps (ids first_id..) into the outbox.
 void QueueSubmaps(Outbox* outbox, const std::string& robot_id, int64_t first_id, int count);
+
+// Polls `done()` every 10 ms until it holds or about `seconds` passed; its last value.
+template <typename F>
+bool WaitFor(F done, double seconds) {
+  for (int i = 0; i < seconds * 100; ++i) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return done();
+}
 
 }  // namespace fleetmap::testing
 
