@@ -1,4 +1,5 @@
-// fleetmap-agent: one robot's process (sensor source -> local SLAM -> outbox -> server).
+// fleetmap-agent: one robot's process (sensor source -> local SLAM or localization -> outbox ->
+// server).
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
@@ -34,8 +35,9 @@ void WatchSignals(const sigset_t& signals, fleetmap::Agent* agent) {
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "fleetmap-agent: runs one robot's local SLAM and uploads its submaps, trajectory "
-      "and detections to a fleetmap server through a durable outbox"};
+      "fleetmap-agent: runs one robot's local SLAM (or, with `localization:` in its "
+      "configuration, Monte Carlo localization in a known map) and uploads its submaps, "
+      "trajectory and detections to a fleetmap server through a durable outbox"};
   std::string config_path;
   std::string server;
   std::string outbox;
