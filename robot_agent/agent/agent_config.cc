@@ -176,6 +176,7 @@ void ReadLocalization(Fields& root, const std::string& base_dir, LocalizationCon
   localization.Get("beams", &config->beams);
   localization.Get("seed", &config->seed);
   localization.Get("scan_seeding", &config->scan_seeding);
+  localization.Get("random_injection", &config->random_injection);
   localization.Get("share_detections", &config->share_detections);
   localization.CheckUnknown();
 }

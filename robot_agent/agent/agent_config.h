@@ -105,6 +105,9 @@ struct LocalizationConfig {
   // After a global start, a scan-to-map search moves some particles to where the scan fits best
   // (robot_agent/localization/scan_seeding.h). It cannot tell twins apart.
   bool scan_seeding = true;
+  // Augmented MCL's random injection (kidnap recovery); off by default, as in AMCL: in
+  // look-alike corridors it moves the belief to the wrong one (mcl_localizer.h).
+  bool random_injection = false;
   bool share_detections = true;
 };
 

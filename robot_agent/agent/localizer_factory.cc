@@ -17,6 +17,7 @@ std::unique_ptr<MclLocalizer> CreateLocalizer(const LocalizationConfig& config,
   options.initial_position_std = config.initial_position_std;
   options.initial_heading_std = config.initial_heading_std;
   options.seeding.enabled = config.scan_seeding;
+  options.mcl.recovery.enabled = config.random_injection;
   return std::make_unique<MclLocalizer>(map, options);
 }
 

@@ -19,6 +19,12 @@
 namespace fleetmap {
 
 struct MclLocalizerOptions {
+  // Augmented MCL's random injection is off here, as in AMCL's defaults: in a building of
+  // look-alike corridors the random particles that land in another corridor fit as well, and
+  // the belief jumps there (the simulated building lap from a known start: mean 4.4 m, lost
+  // after 490 s, against 0.108 m without). Scan-to-map seeding finds a global start instead.
+  MclLocalizerOptions() { mcl.recovery.enabled = false; }
+
   MclOptions mcl;
   LikelihoodFieldModelOptions laser;
   // Where the robot starts, in the map frame: a Gaussian around `initial_pose`, or, without

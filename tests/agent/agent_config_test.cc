@@ -153,6 +153,7 @@ TEST_F(AgentConfigTest, LocalizationModeIsParsedAndItsBadFieldsAreNamed) {
       Base() +
       "localization:\n  enabled: true\n  map: floor.yaml\n  initial_pose: {x: 1, y: 2, "
       "theta: 0.5}\n  particles: 3000\n  beams: 90\n  seed: 4\n  scan_seeding: false\n  "
+      "random_injection: true\n  "
       "share_detections: false\n";
   AgentConfig config;
   std::string error;
@@ -166,6 +167,7 @@ TEST_F(AgentConfigTest, LocalizationModeIsParsedAndItsBadFieldsAreNamed) {
   EXPECT_EQ(localization.beams, 90);
   EXPECT_EQ(localization.seed, 4);
   EXPECT_FALSE(localization.scan_seeding);
+  EXPECT_TRUE(localization.random_injection);
   EXPECT_FALSE(localization.share_detections);
 
   const std::vector<std::pair<std::string, std::string>> cases = {

@@ -245,6 +245,15 @@ int main(int argc, char** argv) {
                    "After a global start, move some particles to where a scan-to-map search "
                    "fits the scan best (true/false)")
       ->capture_default_str();
+  log_command
+      ->add_option("--max-injection", log_options.localizer.mcl.recovery.max_injection_fraction,
+                   "Augmented MCL: most random particles per resampling (0 = off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  log_command
+      ->add_option("--random-injection", log_options.localizer.mcl.recovery.enabled,
+                   "Augmented MCL's random injection (kidnap recovery), off as in AMCL")
+      ->capture_default_str();
   log_command->add_option("--seed", log_options.localizer.mcl.seed, "Random seed")
       ->capture_default_str();
   log_command
