@@ -49,10 +49,11 @@ class ScanSeeder {
   // Moves `fraction` of the particles (chosen at random) to a Gaussian around `pose`, at the
   // mean weight.
   void Seed(const Rigid2d& pose, std::vector<Particle>* particles, std::mt19937& rng) const;
+
+ private:
   // The points Search uses: returns within max_range, at most max_points.
   std::vector<Eigen::Vector2f> SelectPoints(const std::vector<Eigen::Vector2f>& points) const;
 
- private:
   ScanSeedingOptions options_;
   std::unique_ptr<MatchGrid> grid_;
   std::unique_ptr<MatchGridPyramid> pyramid_;

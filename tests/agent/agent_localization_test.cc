@@ -156,6 +156,14 @@ class AgentLocalizationTest : public ::testing::Test {
     return errors;
   }
 
+  // Exact odometry and ranges: what is left is the map's error and the filter's spread.
+  static void ExpectAccurate(const Errors& errors) {
+    EXPECT_LT(errors.mean_position, 0.05);
+    EXPECT_LT(errors.mean_heading, 0.02);
+    EXPECT_LT(errors.worst_position, 0.15);
+    EXPECT_LT(errors.worst_heading, 0.07);
+  }
+
   const testing::ScopedTempDir dir_{"agent_localization"};
   std::unique_ptr<MapServer> server_;
 };
@@ -178,12 +186,7 @@ TEST_F(AgentLocalizationTest, LocalizesInTheServersMapAndInAMapFileAndUploadsGlo
               ::testing::ContainsRegex("\\| MCL converged \\(std 0\\.[0-9] m\\) in map v[1-9]"));
   EXPECT_THAT(output, HasSubstr("scans=300 submaps queued=0"));
   EXPECT_THAT(output, HasSubstr("rejected=0"));
-  // Exact odometry and ranges: what is left is the map's error and the filter's spread.
-  const Errors tracker = PoseErrors("tracker", 10);
-  EXPECT_LT(tracker.mean_position, 0.05);
-  EXPECT_LT(tracker.mean_heading, 0.02);
-  EXPECT_LT(tracker.worst_position, 0.15);
-  EXPECT_LT(tracker.worst_heading, 0.07);
+  ExpectAccurate(PoseErrors("tracker", 10));
 
   // The server places the robot in the global frame as it is (identity) with no submaps.
   bool found = false;
@@ -213,11 +216,7 @@ TEST_F(AgentLocalizationTest, LocalizesInTheServersMapAndInAMapFileAndUploadsGlo
   EXPECT_THAT(output, HasSubstr("first converged after"));
   EXPECT_THAT(output, HasSubstr("| MCL converged (std"));
   EXPECT_THAT(output, HasSubstr("global start not confirmed by a detection"));
-  const Errors lost_robot = PoseErrors("lost", 200);
-  EXPECT_LT(lost_robot.mean_position, 0.05);
-  EXPECT_LT(lost_robot.mean_heading, 0.02);
-  EXPECT_LT(lost_robot.worst_position, 0.15);
-  EXPECT_LT(lost_robot.worst_heading, 0.07);
+  ExpectAccurate(PoseErrors("lost", 200));
 }
 
 TEST_F(AgentLocalizationTest, WithoutAMapFromTheServerItStopsAndSaysWhatToDo) {
