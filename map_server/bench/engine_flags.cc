@@ -45,13 +45,18 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                   "waits (MergeEngineOptions::whole_map_max_refuted)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app->add_flag("--whole-map-matches", options->whole_map_matches,
-                "merge engine: match parts' whole maps when no submap places them; off by "
-                "default: department_3robots joins robot3 turned round (MergeEngineOptions::"
-                "whole_map_matches)");
+  app->add_flag("!--no-whole-map-matches", options->whole_map_matches,
+                "merge engine: do not match parts' whole maps when no submap places them "
+                "(MergeEngineOptions::whole_map_matches)");
   app->add_option("--whole-map-match-max-refuted", options->whole_map_match_max_refuted,
                   "merge engine: the same as --whole-map-max-refuted for a join on the whole maps "
                   "matched (MergeEngineOptions::whole_map_match_max_refuted)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option("--join-review-growth", options->join_review_growth,
+                  "merge engine: a join on the whole maps is judged again over the grown maps each "
+                  "time its component grows by this factor, and withdrawn when ambiguous then "
+                  "(MergeEngineOptions::join_review_growth; 0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app->add_option("--whole-map-symmetries", options->whole_map_symmetry_max_examined,

@@ -219,14 +219,17 @@ std::map<NodeId, Rigid2d> MergeEngine::SubmapPoses() const {
   return poses;
 }
 
-void MergeEngine::JoinComponents(const std::string& root_a, const std::string& root_b, const Rigid2d& b_in_a) {
+std::vector<std::string> MergeEngine::JoinComponents(const std::string& root_a,
+                                                     const std::string& root_b,
+                                                     const Rigid2d& b_in_a) {
   std::string keep = root_a, drop = root_b;
   Rigid2d drop_in_keep = b_in_a;
   if (!reference_robot_.empty() && Root(reference_robot_) == root_b) {
     std::swap(keep, drop);
     drop_in_keep = b_in_a.inverse();
   }
-  for (const std::string& member : Members(drop)) {
+  const std::vector<std::string> dropped = Members(drop);
+  for (const std::string& member : dropped) {
     for (const auto& [id, submap] : robots_.at(member)->submaps) {
       if (const auto pose = graph_.NodePose({member, id})) graph_.SetNode({member, id}, drop_in_keep * *pose);
     }
@@ -239,6 +242,7 @@ void MergeEngine::JoinComponents(const std::string& root_a, const std::string& r
     }
   }
   graph_dirty_ = true;
+  return dropped;
 }
 
 void MergeEngine::SyncNodes(MergeUpdate* update) {
@@ -338,6 +342,7 @@ MergeUpdate MergeEngine::Update() {
   RefreshCanvases(&update);
   ProcessDetections(&update);
   if (ReviewJoins(&update)) ProcessDetections(&update);  // the withdrawn robot's, again
+  if (ReviewWholeMapJoins(&update)) ProcessDetections(&update);
   ReviewMatchHypotheses(&update);  // before new searches: a local check is cheap
   ProcessCrossMatches(&update);
   ProcessWholeMapMatches(&update);

@@ -99,6 +99,9 @@ class MergeEngine {
     int agreeing = 0;
     int contradicting = 0;
   };
+  // Some robots of one component, whose maps are judged together (e.g. a component without the
+  // robot whose join is reviewed).
+  using Part = std::vector<std::string>;
   struct HeadingPrior {
     double heading;  // the seen robot's component frame in the observer's, radians
     double sigma;
@@ -112,7 +115,9 @@ class MergeEngine {
   bool IsPlaced(const std::string& robot) const;
   std::string Root(const std::string& robot) const;
   std::vector<std::string> Members(const std::string& root) const;
-  void JoinComponents(const std::string& root_a, const std::string& root_b, const Rigid2d& b_in_a);
+  // Returns the robots whose component moved into the other's frame.
+  std::vector<std::string> JoinComponents(const std::string& root_a, const std::string& root_b,
+                                          const Rigid2d& b_in_a);
   std::optional<Rigid2d> LocalToFrame(const std::string& robot) const;
 
   // merge_engine_alignment.cc
@@ -135,7 +140,12 @@ class MergeEngine {
   // merge_engine_withdraw.cc
   // Splits off the robot that the most detections contradict, when the gates say so; true if any.
   bool ReviewJoins(MergeUpdate* update);
-  void Withdraw(const std::string& robot, const DetectionVotes& votes, MergeUpdate* update);
+  void Withdraw(const std::string& robot, EvidenceKind evidence, const std::string& reason,
+                MergeUpdate* update);
+  // merge_engine_join_review.cc
+  // Splits off the robot joined last on the whole maps whose map, judged again against the
+  // robots it joined now that the maps have grown, fits elsewhere as well; true if it did.
+  bool ReviewWholeMapJoins(MergeUpdate* update);
   // Detections between the robot and the other members of its component, judged at the
   // current poses.
   DetectionVotes VotesWithin(const std::string& robot) const;
@@ -153,13 +163,13 @@ class MergeEngine {
   // `max_refuted`: most alternatives the walls may rule out (MaxRefuted: per kind of join).
   WholeMapVerdict WholeMapAmbiguity(const std::string& root_a, const std::string& root_b,
                                     const Rigid2d& b_in_a, int max_refuted);
-  WholeMapVerdict SearchWholeMaps(const std::string& root_a, const std::string& root_b,
-                                  const Rigid2d& b_in_a, int max_refuted) const;
+  WholeMapVerdict SearchWholeMaps(const Part& part_a, const Part& part_b, const Rigid2d& b_in_a,
+                                  int max_refuted) const;
   int MaxRefuted(const Hypothesis& h) const;
-  // Where the robots of a component drove (scan positions, its frame).
-  std::vector<Eigen::Vector2d> TrailPositions(const std::string& root) const;
+  // Where the robots of a part drove (scan positions, its component's frame).
+  std::vector<Eigen::Vector2d> TrailPositions(const Part& members) const;
   // merge_engine_whole_map_match.cc
-  OccupancyGrid RenderPart(const std::string& root, double resolution) const;
+  OccupancyGrid RenderPart(const Part& members, double resolution) const;
   MatchTargetOptions WholeMapMatchOptions() const;
   std::vector<std::pair<std::string, std::string>> WholeMapMatchesDue() const;
   void ProcessWholeMapMatches(MergeUpdate* update);
@@ -183,6 +193,8 @@ class MergeEngine {
   std::optional<TimedPose> PoseAtTime(const std::string& robot, double time) const;
   // Members and canvas versions of a component: changes whenever its map does.
   std::string CanvasStamp(const std::string& root) const;
+  std::string PartStamp(const Part& members) const;
+  static std::string PartKey(const Part& members);
   // The whole map of a component (cached), or a freshly built crop of it around `box`.
   const MatchTarget& Target(const std::string& root);
   std::unique_ptr<MatchTarget> CroppedTarget(const std::string& root, const std::string& excluded,

@@ -88,9 +88,19 @@ const MatchSource& MergeEngine::SubmapSource(const std::string& robot, int64_t s
 }
 
 std::string MergeEngine::CanvasStamp(const std::string& root) const {
+  return PartStamp(Members(root));
+}
+
+std::string MergeEngine::PartStamp(const Part& members) const {
   std::ostringstream stamp;
-  for (const std::string& m : Members(root)) stamp << m << ':' << robots_.at(m)->canvas_version << ';';
+  for (const std::string& m : members) stamp << m << ':' << robots_.at(m)->canvas_version << ';';
   return stamp.str();
+}
+
+std::string MergeEngine::PartKey(const Part& members) {
+  std::string key;
+  for (const std::string& m : members) key += m + ';';
+  return key;
 }
 
 const MatchTarget& MergeEngine::Target(const std::string& root) {

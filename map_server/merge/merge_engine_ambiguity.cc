@@ -48,9 +48,9 @@ std::vector<int> BlobsOf(const WallBlobs& blobs, const std::vector<Eigen::Vector
 
 }  // namespace
 
-std::vector<Eigen::Vector2d> MergeEngine::TrailPositions(const std::string& root) const {
+std::vector<Eigen::Vector2d> MergeEngine::TrailPositions(const Part& members) const {
   std::vector<Eigen::Vector2d> positions;
-  for (const std::string& m : Members(root)) {
+  for (const std::string& m : members) {
     for (const auto& [id, submap] : robots_.at(m)->submaps) {
       const auto pose = graph_.NodePose({m, id});
       if (!pose) continue;
@@ -80,18 +80,17 @@ MergeEngine::WholeMapVerdict MergeEngine::WholeMapAmbiguity(const std::string& r
       std::abs(NormalizeAngle(moved.rotation())) <= options_.agreement_rotation) {
     return cached.answer;
   }
-  cached = {stamp, b_in_a, SearchWholeMaps(root_a, root_b, b_in_a, max_refuted)};
+  cached = {stamp, b_in_a, SearchWholeMaps(Members(root_a), Members(root_b), b_in_a, max_refuted)};
   return cached.answer;
 }
 
-MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& root_a,
-                                                          const std::string& root_b,
+MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, const Part& part_b,
                                                           const Rigid2d& b_in_a,
                                                           int max_refuted) const {
   const double resolution = options_.whole_map_resolution;
   const MatchTargetOptions match_options = WholeMapMatchOptions();
-  const OccupancyGrid map_a = RenderPart(root_a, resolution),
-                      map_b = RenderPart(root_b, resolution);
+  const OccupancyGrid map_a = RenderPart(part_a, resolution),
+                      map_b = RenderPart(part_b, resolution);
   const MatchTarget target(map_a, match_options);
   MatchSource source = MakeMatchSource(map_b, Rigid2d(), match_options);
   if (target.empty() || source.coarse.empty()) return {};
@@ -104,12 +103,12 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
   const std::vector<int> blob_of_a = BlobsOf(blobs_a, reverse_source.fine);
   const std::vector<int> blob_of_b = BlobsOf(blobs_b, source.fine);
   const double trail_radius = options_.whole_map_body_radius + resolution * M_SQRT1_2;
-  const auto trails_of = [&](const std::string& root) {
+  const auto trails_of = [&](const Part& part) {
     // An empty mask excuses nothing (whole_map_body_radius 0).
     if (!(options_.whole_map_body_radius > 0.0)) return TrailMask({}, 0.0, kTrailResolution);
-    return TrailMask(TrailPositions(root), trail_radius, kTrailResolution);
+    return TrailMask(TrailPositions(part), trail_radius, kTrailResolution);
   };
-  const TrailMask trails_a = trails_of(root_a), trails_b = trails_of(root_b);
+  const TrailMask trails_a = trails_of(part_a), trails_b = trails_of(part_b);
   const std::vector<bool> own_a = blobs_a.OnTrails(trails_a, Rigid2d());
   const std::vector<bool> own_b = blobs_b.OnTrails(trails_b, Rigid2d());
   // Moves under which either map fits itself (the department turned half round): the join
@@ -123,19 +122,18 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const std::string& roo
     symmetry.max_examined = options_.whole_map_symmetry_max_examined;
     symmetry.distinct = options_.cross_gates.distinct;
     symmetry.gates = options_.cross_gates;
-    const auto cached = [&](const std::string& root, const MatchTarget& map,
-                            const MatchSource& points, const std::vector<int>& blob_of,
-                            const std::vector<bool>& own) {
-      CachedSymmetries& entry = symmetries_[root];
-      const std::string stamp = CanvasStamp(root);
+    const auto cached = [&](const Part& part, const MatchTarget& map, const MatchSource& points,
+                            const std::vector<int>& blob_of, const std::vector<bool>& own) {
+      const std::string stamp = PartStamp(part);
+      CachedSymmetries& entry = symmetries_[PartKey(part)];
       if (entry.stamp != stamp) {
         entry = {stamp, MapSymmetries(map, points, WallsOffTrails(points.fine, blob_of, own, own),
                                       symmetry)};
       }
       return entry.moves;
     };
-    symmetries_a = cached(root_a, target, reverse_source, blob_of_a, own_a);
-    symmetries_b = cached(root_b, reverse_target, source, blob_of_b, own_b);
+    symmetries_a = cached(part_a, target, reverse_source, blob_of_a, own_a);
+    symmetries_b = cached(part_b, reverse_target, source, blob_of_b, own_b);
   }
   // Turn about the source's centroid, so that the window only has to cover the target.
   const Eigen::Vector2d c = Centroid(source.coarse);

@@ -69,6 +69,14 @@ struct MergeEngineOptions {
   // withdrawals off.
   int min_withdrawing_detections = 3;
   double withdraw_majority = 1.5;
+  // A join on the whole maps matched (whole_map_matches below; no detection agreeing since) is
+  // judged again by the whole-map check each time its component holds join_review_growth times
+  // as many finished submaps as when it was last judged: the joined robot's map against the
+  // robots it joined. Ambiguous now, it is withdrawn (merge_engine_join_review.cc). 0 turns it
+  // off. On since session 36, with whole_map_matches: without detections department_3robots'
+  // robot3 was joined 48.9 m / 180 deg off on 2 of 4 seeds by whole-map matches, and waits with
+  // the review (docs/BENCHMARKS.md, issue 8, session 36).
+  double join_review_growth = 1.25;
   double detection_sigma_floor = 0.1;
 
   // A join on matches alone (no detection among its evidence) is accepted only when nothing else
@@ -181,11 +189,12 @@ struct MergeEngineOptions {
   // whole_map_match_growth times as many finished submaps (each match costs 0.1-2 s). Such a
   // join rules out alternatives by their walls up to whole_map_match_max_refuted: the
   // building's true join rules out 14-19 (its corridors shifted by a room, or turned round).
-  // Off by default: with it, building_2robots merged 4 of 4 seeds without detections (0.010-0.045
+  // Off until session 36: building_2robots merged 4 of 4 seeds without detections (0.010-0.045
   // m), but department_3robots joined robot3 48.8 m / 180 deg off on 2 of 4 (matched whole when
   // robot3's map fit the half turn over 98 % of it and the true alignment was not yet an
-  // alternative either search finds; docs/BENCHMARKS.md, issue 8, session 32).
-  bool whole_map_matches = false;
+  // alternative either search finds; docs/BENCHMARKS.md, issue 8, session 32). Such a join is
+  // now judged again as the maps grow (join_review_growth above) and withdrawn.
+  bool whole_map_matches = true;
   int whole_map_match_min_submaps = 3;
   double whole_map_match_growth = 1.25;
   int max_whole_map_matches_per_update = 1;

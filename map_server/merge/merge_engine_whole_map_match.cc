@@ -29,9 +29,9 @@ std::pair<std::string, std::string> PairKey(const std::string& a, const std::str
 
 }  // namespace
 
-OccupancyGrid MergeEngine::RenderPart(const std::string& root, double resolution) const {
+OccupancyGrid MergeEngine::RenderPart(const Part& members, double resolution) const {
   LogOddsCanvas canvas(resolution);
-  for (const std::string& m : Members(root)) {
+  for (const std::string& m : members) {
     for (const auto& [id, submap] : robots_.at(m)->submaps) {
       if (const auto pose = graph_.NodePose({m, id})) canvas.AddSubmap(submap.grid, *pose, 1.0f);
     }
@@ -86,9 +86,10 @@ void MergeEngine::ProcessWholeMapMatches(MergeUpdate* update) {
     const std::string& root_b = first_larger ? second : first;
     whole_map_tried_[PairKey(root_a, root_b)] = FinishedSubmaps(root_a) + FinishedSubmaps(root_b);
     const MatchTargetOptions match_options = WholeMapMatchOptions();
-    const MatchTarget target(RenderPart(root_a, options_.whole_map_resolution), match_options);
-    MatchSource source =
-        MakeMatchSource(RenderPart(root_b, options_.whole_map_resolution), Rigid2d(), match_options);
+    const MatchTarget target(RenderPart(Members(root_a), options_.whole_map_resolution),
+                             match_options);
+    MatchSource source = MakeMatchSource(RenderPart(Members(root_b), options_.whole_map_resolution),
+                                         Rigid2d(), match_options);
     if (target.empty() || source.coarse.empty()) continue;
     // Turned about its centroid; overlapping only a part of a's map, that centroid can lie off it.
     const Eigen::Vector2d c = Centroid(source.coarse);

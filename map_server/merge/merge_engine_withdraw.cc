@@ -55,13 +55,18 @@ bool MergeEngine::ReviewJoins(MergeUpdate* update) {
       }
     }
     if (worst.empty()) break;
-    Withdraw(worst, worst_votes, update);
+    std::ostringstream why;
+    why << worst_votes.contradicting << " detections between " << worst
+        << " and the robots it was joined with contradict the joined map (" << worst_votes.agreeing
+        << " agree); split off until evidence agrees again";
+    Withdraw(worst, EvidenceKind::kDetection, why.str(), update);
     withdrew = true;
   }
   return withdrew;
 }
 
-void MergeEngine::Withdraw(const std::string& robot, const DetectionVotes& votes, MergeUpdate* update) {
+void MergeEngine::Withdraw(const std::string& robot, EvidenceKind evidence,
+                           const std::string& reason, MergeUpdate* update) {
   const std::string old_root = Root(robot);
   const std::vector<std::string> members = Members(old_root);
   RobotState& state = *robots_.at(robot);
@@ -106,7 +111,11 @@ void MergeEngine::Withdraw(const std::string& robot, const DetectionVotes& votes
       }
       if (robots_.at(m)->joined_at < robots_.at(root)->joined_at) root = m;
     }
-    for (const std::string& m : group) root_[m] = root;
+    for (const std::string& m : group) {
+      root_[m] = root;
+      // Their joins were judged with the robot among them: judged again without it.
+      robots_.at(m)->join_reviewed_at = 0;
+    }
     new_roots.insert(root);
     RobotState& r = *robots_.at(root);
     if (!r.fixed_node) {
@@ -139,7 +148,7 @@ void MergeEngine::Withdraw(const std::string& robot, const DetectionVotes& votes
 
   AlignmentEvent event;
   event.type = AlignmentEventType::kWithdrawn;
-  event.evidence = EvidenceKind::kDetection;
+  event.evidence = evidence;
   // The part it left: the old root's, or, when the robot was that root, another member's.
   event.robot_a = old_root;
   if (old_root == robot) {
@@ -147,11 +156,7 @@ void MergeEngine::Withdraw(const std::string& robot, const DetectionVotes& votes
     if (other != members.end()) event.robot_a = Root(*other);
   }
   event.robot_b = robot;
-  std::ostringstream os;
-  os << votes.contradicting << " detections between " << robot
-     << " and the robots it was joined with contradict the joined map (" << votes.agreeing
-     << " agree); split off until evidence agrees again";
-  event.reason = os.str();
+  event.reason = reason;
   update->events.push_back(event);
 }
 

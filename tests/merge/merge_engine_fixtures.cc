@@ -52,6 +52,7 @@ int Count(const MergeUpdate& u, AlignmentEventType type) {
 MergeEngineOptions TestOptions() {
   MergeEngineOptions options;
   options.max_global_searches_per_update = 0;
+  options.whole_map_matches = false;  // a global search too
   return options;
 }
 
