@@ -5,7 +5,8 @@
 // the turned map too. Once joined, each contradicting detection alone is an outlier; many of
 // them, and more than agree, mean the join is wrong. The robot is split off (its links to the
 // rest removed from the graph) and its detections are judged again, now between two parts, where
-// they can place it where they say and veto the wrong match.
+// they can place it where they say and veto the wrong match. Withdraw() also undoes joins on the
+// whole maps that the grown maps find ambiguous (merge_engine_join_review.cc).
 
 #include <algorithm>
 #include <sstream>

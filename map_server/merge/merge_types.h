@@ -19,7 +19,9 @@ enum class AlignmentEventType {
   kRejected,           // evidence that failed a gate (the reason says which)
   kConstraintAdded,    // a detection or match added to the graph between joined robots
   kPending,            // a detection waiting for trajectories/submaps covering its time
-  kWithdrawn,          // an accepted alignment undone: later detections contradict it (robot_b split off)
+  // An accepted alignment undone (robot_b split off): later detections contradict it, or a join
+  // on the whole maps is ambiguous over the grown maps.
+  kWithdrawn,
 };
 const char* AlignmentEventTypeName(AlignmentEventType type);
 
