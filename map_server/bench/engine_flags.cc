@@ -10,6 +10,32 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
   app->add_option("--odometry-rotation-sigma-per-metre", options->odometry_rotation_sigma_per_metre,
                   "merge engine: rotation sigma (rad) of consecutive-submap edges per metre")
       ->capture_default_str();
+  app->add_option("--match-translation-sigma", options->match_translation_sigma,
+                  "merge engine: translation sigma (m) of cross-robot match edges")
+      ->capture_default_str();
+  app->add_option("--match-rotation-sigma", options->match_rotation_sigma,
+                  "merge engine: rotation sigma (rad) of cross-robot match edges")
+      ->capture_default_str();
+  app->add_option("--odometry-translation-sigma", options->odometry_translation_sigma,
+                  "merge engine: translation sigma (m) of consecutive-submap edges")
+      ->capture_default_str();
+  app->add_option("--odometry-rotation-sigma", options->odometry_rotation_sigma,
+                  "merge engine: rotation sigma (rad) of consecutive-submap edges")
+      ->capture_default_str();
+  app->add_option("--whole-map-contradiction-window", options->whole_map_contradiction_window,
+                  "merge engine: wall points in seen-free space are counted with each tile of a "
+                  "map moved on its own up to this far (MergeEngineOptions::"
+                  "whole_map_contradiction_window; 0: rigid)")
+      ->capture_default_str();
+  app->add_option("--whole-map-contradiction-window-per-metre",
+                  options->whole_map_contradiction_window_per_metre,
+                  "merge engine: ... and at most this far per metre of the tile from the map's "
+                  "centroid (MergeEngineOptions::whole_map_contradiction_window_per_metre)")
+      ->capture_default_str();
+  app->add_option("--whole-map-contradiction-tile", options->whole_map_contradiction_tile,
+                  "merge engine: the tiles' side, metres (MergeEngineOptions::"
+                  "whole_map_contradiction_tile)")
+      ->capture_default_str();
   app->add_option("--whole-map-ambiguity", options->whole_map_ambiguity,
                   "merge engine: a join on matches alone waits while another alignment of the "
                   "whole maps scores this share of it (MergeEngineOptions::whole_map_ambiguity; 0: "

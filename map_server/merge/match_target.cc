@@ -1,7 +1,10 @@
 #include "map_server/merge/match_target.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
+#include <utility>
 
 #include "map_server/merge/grid_points.h"
 
@@ -168,6 +171,38 @@ int MatchTarget::ContradictionsAt(const std::vector<Eigen::Vector2d>& points,
     const int x = static_cast<int>(std::floor(c.x())), y = static_cast<int>(std::floor(c.y()));
     // Known cells score above zero within twice sigma of a wall; beyond, only seen-free remains.
     count += grid_.Known(x, y) && grid_.Value(x, y) <= 0.0f;
+  }
+  return count;
+}
+
+int MatchTarget::LocallyFittedContradictionsAt(const std::vector<Eigen::Vector2d>& points,
+                                               const Rigid2d& pose, double tile, double window,
+                                               double window_per_metre) const {
+  if (!(window > 0.0) || !(tile > 0.0) || points.empty()) return ContradictionsAt(points, pose);
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : points) centroid += p;
+  centroid /= static_cast<double>(points.size());
+  std::map<std::pair<int, int>, std::vector<Eigen::Vector2d>> tiles;
+  for (const Eigen::Vector2d& p : points) {
+    tiles[{static_cast<int>(std::floor(p.x() / tile)), static_cast<int>(std::floor(p.y() / tile))}]
+        .push_back(p);
+  }
+  int count = 0;
+  for (const auto& [key, tile_points] : tiles) {
+    const Eigen::Vector2d centre = (Eigen::Vector2d(key.first, key.second).array() + 0.5) * tile;
+    const double reach = std::min(window, window_per_metre * (centre - centroid).norm());
+    const int steps = static_cast<int>(std::floor(reach / grid_.resolution() + 1e-9));
+    std::vector<Eigen::Vector2d> placed;
+    placed.reserve(tile_points.size());
+    for (const Eigen::Vector2d& p : tile_points) placed.push_back(pose * p);
+    int least = ContradictionsAt(placed, Rigid2d());
+    for (int dx = -steps; dx <= steps && least > 0; ++dx) {
+      for (int dy = -steps; dy <= steps && least > 0; ++dy) {
+        const Rigid2d shift(Eigen::Vector2d(dx, dy) * grid_.resolution(), 0.0);
+        least = std::min(least, ContradictionsAt(placed, shift));
+      }
+    }
+    count += least;
   }
   return count;
 }

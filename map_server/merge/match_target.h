@@ -120,6 +120,15 @@ class MatchTarget {
   // How many of `points` (source frame) land, at `pose`, in space the target saw free and away
   // from its walls (beyond twice the score grid's sigma): walls the target's scans went through.
   int ContradictionsAt(const std::vector<Eigen::Vector2d>& points, const Rigid2d& pose) const;
+  // The same, with the points cut into square tiles of `tile` metres (source frame) and each
+  // tile moved on its own, by whole cells along x and y, to where it crosses least: walls a
+  // rigid pose misplaces by the maps' own drift (local SLAM's loops over a long corridor) are
+  // not counted, walls standing across the other's free space are. A tile moves at most
+  // `window_per_metre` times its centre's distance from the points' centroid, and at most
+  // `window`: drift grows away from where an alignment fits, and an alignment off as a whole is
+  // not forgiven. `window` 0 is ContradictionsAt.
+  int LocallyFittedContradictionsAt(const std::vector<Eigen::Vector2d>& points, const Rigid2d& pose,
+                                    double tile, double window, double window_per_metre) const;
 
  private:
   MatchResult EvaluateWithScore(const MatchSource& source, const Rigid2d& pose,

@@ -148,8 +148,10 @@ RelativeEdge MergeEngine::MatchEdge(const NodeId& from, const NodeId& to, EdgeKi
   edge.from = from;
   edge.to = to;
   edge.to_in_from = graph_.NodePose(from)->inverse() * *graph_.NodePose(to);
-  edge.translation_sigma = options_.match_translation_sigma;
-  edge.rotation_sigma = options_.match_rotation_sigma;
+  const bool loop = kind == EdgeKind::kLoopClosure;
+  edge.translation_sigma =
+      loop ? options_.loop_translation_sigma : options_.match_translation_sigma;
+  edge.rotation_sigma = loop ? options_.loop_rotation_sigma : options_.match_rotation_sigma;
   edge.kind = kind;
   edge.robust_scale = options_.robust_scale;
   return edge;

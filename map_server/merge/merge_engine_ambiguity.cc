@@ -147,21 +147,30 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
     return {why.str(), ""};
   }
   // Walls of either map inside space the other saw free, at an alignment of the centred source,
-  // but for those on the robots' trails there.
-  const auto contradictions = [&](const Rigid2d& centred_b_in_a) {
+  // but for those on the robots' trails there. The join's are counted with each tile of a map
+  // fitted on its own first (whole_map_contradiction_window): local SLAM's drift is no wall seen
+  // through. An alternative's are counted rigidly.
+  const auto crossings = [&](const MatchTarget& map, const std::vector<Eigen::Vector2d>& walls,
+                             const Rigid2d& pose, bool fitted) {
+    return map.LocallyFittedContradictionsAt(walls, pose, options_.whole_map_contradiction_tile,
+                                             fitted ? options_.whole_map_contradiction_window : 0.0,
+                                             options_.whole_map_contradiction_window_per_metre);
+  };
+  const auto contradictions = [&](const Rigid2d& centred_b_in_a, bool fitted) {
     const Rigid2d whole_b_in_a = centred_b_in_a * Rigid2d(-c, 0.0);
     const std::vector<Eigen::Vector2d> walls_b =
         WallsOffTrails(source.fine, blob_of_b, own_b, blobs_b.OnTrails(trails_a, whole_b_in_a));
     const std::vector<Eigen::Vector2d> walls_a = WallsOffTrails(
         reverse_source.fine, blob_of_a, own_a, blobs_a.OnTrails(trails_b, whole_b_in_a.inverse()));
-    return target.ContradictionsAt(walls_b, centred_b_in_a) +
-           reverse_target.ContradictionsAt(walls_a, whole_b_in_a.inverse());
+    return crossings(target, walls_b, centred_b_in_a, fitted) +
+           crossings(reverse_target, walls_a, whole_b_in_a.inverse(), fitted);
   };
-  const int candidate_contradictions = contradictions(candidate);
+  const int candidate_contradictions = contradictions(candidate, true);
+  // Tiles fitted with and without the trails' walls can differ: never below 0.
   const int candidate_on_trails =
-      target.ContradictionsAt(source.fine, candidate) +
-      reverse_target.ContradictionsAt(reverse_source.fine, b_in_a.inverse()) -
-      candidate_contradictions;
+      std::max(0, crossings(target, source.fine, candidate, true) +
+                      crossings(reverse_target, reverse_source.fine, b_in_a.inverse(), true) -
+                      candidate_contradictions);
   // The best fit near a lattice pose (within a cell and a few steps of heading).
   const auto refined = [&](const Rigid2d& pose) {
     return target.BestFitNear(source, pose, options_.cross_gates);
@@ -295,7 +304,7 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
     // a department join crossed 283 points there and 52 refined; session 22). The fewer of the
     // two counts.
     const int other_contradictions =
-        std::min(contradictions(other->pose), contradictions(refined(other->pose)));
+        std::min(contradictions(other->pose, false), contradictions(refined(other->pose), false));
     // An alignment overlapping a's map less has fewer points to cross its seen-free space with:
     // the minimum shrinks with its overlap (east_end's corridors overlapping a quarter of a map
     // turned round crossed 12-34 points, session 31).

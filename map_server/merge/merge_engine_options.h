@@ -116,6 +116,17 @@ struct MergeEngineOptions {
   int whole_map_min_contradictions = 20;
   double whole_map_contradiction_ratio = 4.0;
   int whole_map_max_join_contradictions = 6;
+  // The join's own wall points are counted with each whole_map_contradiction_tile (metres) of a
+  // map moved on its own, up to whole_map_contradiction_window along x and y, to where it
+  // crosses least (MatchTarget::LocallyFittedContradictionsAt); alternatives' rigidly. A true
+  // join over long corridors crosses where local SLAM drifted: building_4robots' robot1-robot2
+  // join, 0.20 m off with robot1's local SLAM ending 0.25 m off, crossed 9 points rigidly, above
+  // the cap of 6 above, and waited on its half turn (53). Fitting the alternatives' tiles too
+  // let building_3robots' true joins wait (6 -> 2 of 6 pairs). Set once from that run, not
+  // tuned (docs/BENCHMARKS.md, issue 8, session 37). 0: rigid.
+  double whole_map_contradiction_tile = 8.0;
+  double whole_map_contradiction_window = 0.4;
+  double whole_map_contradiction_window_per_metre = 0.01;
   int whole_map_max_refuted = 8;
   // Wall points are not counted as seen through when their blob of wall cells lies wholly within
   // whole_map_body_radius (plus half a cell's diagonal) of where a robot of either part drove,
@@ -244,8 +255,17 @@ struct MergeEngineOptions {
   double odometry_rotation_sigma = 0.001;
   double odometry_translation_sigma_per_metre = 0.0;
   double odometry_rotation_sigma_per_metre = 0.0;
-  double match_translation_sigma = 0.02;
-  double match_rotation_sigma = 0.002;
+  // Cross-robot match edges (submap matches and detections' matches). Measured against the
+  // truth (fleetmap-merge-sim-bench --diagnose) they are off by 0.01-0.2 m, median about 0.03 m,
+  // where consecutive-submap edges are off by 0.001-0.035 m: at 0.02 m / 0.002 rad (until
+  // session 37) they bent each robot's chain further from the truth than local SLAM had it. At
+  // 0.06 / 0.006, pairs within 3 cm / 0.3 deg 24 -> 28 of 68, mean pair 0.057 -> 0.044 m
+  // (docs/BENCHMARKS.md, issue 8, session 37). Loop closures within one robot keep 0.02 / 0.002:
+  // looser, they undid only half of a synthetic drift (MergeEngineTest.LoopClosureCorrectsDrift).
+  double match_translation_sigma = 0.06;
+  double match_rotation_sigma = 0.006;
+  double loop_translation_sigma = 0.02;
+  double loop_rotation_sigma = 0.002;
   double robust_scale = 2.0;  // Cauchy scale, in sigmas, for inter-robot edges
   double odometry_robust_scale = 0.0;  // the same for consecutive-submap edges (0: none)
   // A match found against a part's composite map becomes an edge from one node of that part;

@@ -146,6 +146,35 @@ TEST_F(MatchTargetTest, CountsSourceWallsInsideSpaceTheTargetSawFree) {
   EXPECT_EQ(target.ContradictionsAt(source.fine, Rigid2d(100.0, 0.0, 0.0)), 0);
 }
 
+// A map that drifted: the right part of the source's walls stands 0.4 m off. Rigidly placed,
+// they cross the target's seen-free space; each tile moved on its own by up to 0.5 m, they do
+// not. Walls pushed 1.5 m into the rooms still cross it, and a window of 0 is the rigid count.
+// Where tiles may move only a little near the centroid, a map off as a whole stays counted.
+TEST_F(MatchTargetTest, CountsWallsSeenThroughWithEachTileFittedOnItsOwn) {
+  const MatchTarget target(target_grid_, options_);
+  const OccupancyGrid source_grid =
+      testing::GridFromScans(world_, {Rigid2d(3.5, 6, 0), Rigid2d(10, 6, 0)}, Rigid2d());
+  std::vector<Eigen::Vector2d> drifted = MakeMatchSource(source_grid, Rigid2d(), options_).fine;
+  for (Eigen::Vector2d& p : drifted) {
+    if (p.x() >= 8.0) p += Eigen::Vector2d(0.0, 0.4);
+  }
+  const int rigid = target.ContradictionsAt(drifted, Rigid2d());
+  ASSERT_GE(rigid, 20);
+  EXPECT_EQ(target.LocallyFittedContradictionsAt(drifted, Rigid2d(), 4.0, 0.0, 1.0), rigid);
+  EXPECT_LE(target.LocallyFittedContradictionsAt(drifted, Rigid2d(), 4.0, 0.5, 1.0), 5);
+  const Rigid2d pushed(1.5, 1.5, 0.0);
+  EXPECT_GE(target.LocallyFittedContradictionsAt(drifted, pushed, 4.0, 0.5, 1.0),
+            target.ContradictionsAt(drifted, pushed) / 2);
+  EXPECT_GE(target.LocallyFittedContradictionsAt(drifted, pushed, 4.0, 0.5, 1.0), 50);
+  // Tiles move at most 1 cm per metre from the points' centroid: the drifted part, a few metres
+  // out, keeps most of its crossings, and so does the whole map placed 0.4 m off.
+  EXPECT_GE(target.LocallyFittedContradictionsAt(drifted, Rigid2d(), 4.0, 0.5, 0.01), rigid / 2);
+  const Rigid2d off(0.0, 0.4, 0.0);
+  EXPECT_GE(target.LocallyFittedContradictionsAt(drifted, off, 4.0, 0.5, 0.01),
+            target.ContradictionsAt(drifted, off) / 2);
+  EXPECT_GE(target.ContradictionsAt(drifted, off), 20);
+}
+
 // A source reaching past what the target saw keeps only the points on the target's observed
 // cells, each with its own normal; shifted far away from the target, none.
 TEST_F(MatchTargetTest, KeepsOnlyThePointsTheTargetSaw) {
