@@ -29,8 +29,9 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
       ->capture_default_str();
   app->add_option("--whole-map-contradiction-window-per-metre",
                   options->whole_map_contradiction_window_per_metre,
-                  "merge engine: ... and at most this far per metre of the tile from the map's "
-                  "centroid (MergeEngineOptions::whole_map_contradiction_window_per_metre)")
+                  "merge engine: a tile moves at most this far per metre of its distance from "
+                  "the map's centroid (MergeEngineOptions::"
+                  "whole_map_contradiction_window_per_metre)")
       ->capture_default_str();
   app->add_option("--whole-map-contradiction-tile", options->whole_map_contradiction_tile,
                   "merge engine: the tiles' side, metres (MergeEngineOptions::"
