@@ -13,6 +13,7 @@
 
 #include "map_server/bench/engine_flags.h"
 #include "map_server/bench/merge_replay_inputs.h"
+#include "map_server/bench/merge_sim_diagnosis.h"
 #include "map_server/bench/merge_sim_report.h"
 #include "map_server/bench/merge_sim_scoring.h"
 #include "map_server/merge/merge_engine.h"
@@ -167,7 +168,7 @@ int Run(const std::string& db, const std::string& truth_dir, const std::string& 
   Replay(store, one_at_a_time, &engine, &result);
   ScoreMapBounds(latest, truth, world, &result);
   ScoreMerge(engine, truth, world, kFalseTranslation, kFalseRotation, &result, &error);
-  if (diagnose) PrintSubmapDiagnosis(engine, latest, truth);
+  if (diagnose) PrintSubmapDiagnosis(engine, latest, truth, options, world);
   PrintStoredVersion(store, truth, world);
   PrintRun(result,
            std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
@@ -196,7 +197,10 @@ int main(int argc, char** argv) {
                "Update() after each, as a live server folds uploads in (default: all at once)");
   fleetmap::AddEngineFlags(&app, &options);
   app.add_flag("--diagnose", diagnose,
-               "print every submap's anchor error and every graph edge's error against the truth");
+               "print, against the truth, every submap's anchor error (local SLAM, merged) and "
+               "wall offset, the detections' mean error, the pairs' error budget (the graph "
+               "solved again with match edges, local SLAM's chains or no detections changed) and "
+               "every graph edge's error (see merge_sim_diagnosis.h)");
   CLI11_PARSE(app, argc, argv);
   return fleetmap::Run(db, truth, scenario, options, one_at_a_time, diagnose);
 }

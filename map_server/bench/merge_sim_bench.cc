@@ -31,8 +31,10 @@ int main(int argc, char** argv) {
       ->excludes("--no-detections");
   app.add_flag("--verbose", options.verbose, "print every merge event");
   app.add_flag("--diagnose", options.diagnose,
-               "print every submap's anchor error (local SLAM, merged) and every graph edge's "
-               "error against the truth");
+               "print, against the truth, every submap's anchor error (local SLAM, merged) and "
+               "wall offset, the detections' mean error, the pairs' error budget (the graph "
+               "solved again with match edges, local SLAM's chains or no detections changed) and "
+               "every graph edge's error (see merge_sim_diagnosis.h)");
   app.add_option("--feed-period", options.feed_period, "sim seconds between engine updates")
       ->capture_default_str();
   app.add_option("--detection-period", options.detection_period,

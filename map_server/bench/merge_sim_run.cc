@@ -10,6 +10,7 @@
 #include <map>
 #include <random>
 
+#include "map_server/bench/merge_sim_diagnosis.h"
 #include "map_server/bench/merge_sim_report.h"
 #include "map_server/bench/merge_sim_scoring.h"
 #include "map_server/merge/merge_engine.h"
@@ -310,7 +311,8 @@ bool SimRun::Score(std::string* error) {
   ScoreMerge(scored, truth_, world, options_.false_translation, options_.false_rotation, result_,
              error);
   ScoreMapBounds(latest_submaps_, truth_, world, result_);
-  if (options_.diagnose) PrintSubmapDiagnosis(scored, latest_submaps_, truth_);
+  if (options_.diagnose)
+    PrintSubmapDiagnosis(scored, latest_submaps_, truth_, options_.engine, world);
   result_->median_update_ms = Median(update_ms_);
   result_->max_update_ms =
       update_ms_.empty() ? 0.0 : *std::max_element(update_ms_.begin(), update_ms_.end());

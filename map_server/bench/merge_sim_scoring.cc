@@ -29,8 +29,6 @@ std::optional<Rigid2d> TrueAnchor(const RunTruth& known, const NodeId& id) {
   return t->second * anchor->second.first;
 }
 
-namespace {
-
 std::string PoseError(const Rigid2d& estimate, const Rigid2d& truth) {
   const Rigid2d diff = truth.inverse() * estimate;
   char text[96];
@@ -39,8 +37,6 @@ std::string PoseError(const Rigid2d& estimate, const Rigid2d& truth) {
                 NormalizeAngle(diff.rotation()) * 180.0 / M_PI);
   return text;
 }
-
-}  // namespace
 
 std::string HeadingErrorSummary(const Trajectory& trajectory, const RunTruth& known, size_t robot) {
   if (robot >= known.at_scan.size() || !known.local_in_world[robot]) return "";
@@ -78,45 +74,6 @@ std::string HeadingErrorSummary(const Trajectory& trajectory, const RunTruth& kn
                 largest * 180.0 / M_PI, largest_step * 180.0 / M_PI, step_at->time,
                 step_at->position.x(), step_at->position.y());
   return text;
-}
-
-void PrintSubmapDiagnosis(const MergeEngine& engine, const std::map<NodeId, Submap>& submaps,
-                          const RunTruth& known) {
-  const auto ref = std::find(known.names.begin(), known.names.end(), engine.reference_robot());
-  if (ref == known.names.end()) return;
-  const auto& global_in_world =
-      known.local_in_world[static_cast<size_t>(ref - known.names.begin())];
-  const std::map<NodeId, Rigid2d> poses = engine.SubmapPoses();
-  std::optional<std::pair<NodeId, Rigid2d>> previous;
-  for (const auto& [id, submap] : submaps) {
-    const auto truth = TrueAnchor(known, id);
-    const size_t i = static_cast<size_t>(
-        std::find(known.names.begin(), known.names.end(), id.robot) - known.names.begin());
-    if (!truth || i >= known.names.size() || !known.local_in_world[i]) continue;
-    std::string step = "-";
-    if (previous && previous->first.robot == id.robot) {
-      const Submap& before = submaps.at(previous->first);
-      step = PoseError(before.submap_in_local.inverse() * submap.submap_in_local,
-                       previous->second.inverse() * *truth);
-    }
-    const auto merged = poses.find(id);
-    std::printf("    %s/%lld: local %s, step %s, merged %s\n", id.robot.c_str(),
-                static_cast<long long>(id.submap),
-                PoseError(*known.local_in_world[i] * submap.submap_in_local, *truth).c_str(),
-                step.c_str(),
-                merged == poses.end() || !global_in_world
-                    ? "-"
-                    : PoseError(*global_in_world * merged->second, *truth).c_str());
-    previous = std::make_pair(id, *truth);
-  }
-  for (const RelativeEdge& e : engine.graph().edges()) {
-    const auto from = TrueAnchor(known, e.from), to = TrueAnchor(known, e.to);
-    if (!from || !to) continue;
-    std::printf("    edge %s %s/%lld -> %s/%lld: %s\n", EdgeKindName(e.kind), e.from.robot.c_str(),
-                static_cast<long long>(e.from.submap), e.to.robot.c_str(),
-                static_cast<long long>(e.to.submap),
-                PoseError(e.to_in_from, from->inverse() * *to).c_str());
-  }
 }
 
 namespace {

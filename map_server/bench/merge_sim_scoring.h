@@ -76,17 +76,14 @@ struct RunTruth {
 
 // The true anchor of a submap in the world, when the truth has its first scan's time.
 std::optional<Rigid2d> TrueAnchor(const RunTruth& known, const NodeId& id);
+// "0.012 m ( 0.010 -0.007)  0.030 deg": `estimate` in `truth`'s frame.
+std::string PoseError(const Rigid2d& estimate, const Rigid2d& truth);
 
 // One robot's local SLAM heading against the truth over its run (its start frame placed true):
 // the rms and largest error, and the largest change within one second with where it happened.
 // Local SLAM's heading wanders through the corridors and sometimes steps; a step is carried by
 // every later submap, so it says where a pair's error came from.
 std::string HeadingErrorSummary(const Trajectory& trajectory, const RunTruth& known, size_t robot);
-
-// Prints, per submap, how far local SLAM and the merged graph put its anchor from the truth,
-// and per graph edge (but detections), how far its measurement is from the true relation.
-void PrintSubmapDiagnosis(const MergeEngine& engine, const std::map<NodeId, Submap>& submaps,
-                          const RunTruth& known);
 
 // Splits the map figure's losses between the merge and what it was given: the submaps rendered
 // at their true anchors (the best any merge of these submaps could do: what is left is in the

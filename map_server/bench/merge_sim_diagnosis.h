@@ -1,0 +1,29 @@
+#ifndef FLEETMAP_MAP_SERVER_BENCH_MERGE_SIM_DIAGNOSIS_H_
+#define FLEETMAP_MAP_SERVER_BENCH_MERGE_SIM_DIAGNOSIS_H_
+
+#include <map>
+
+#include "map_server/bench/merge_sim_scoring.h"
+#include "map_server/merge/merge_engine.h"
+#include "robot_agent/sim/world.h"
+#include "shared/core/submap.h"
+
+namespace fleetmap {
+
+// Where a merge's error comes from, against the simulator's truth (the benches' --diagnose):
+// - per submap, how far local SLAM and the merged graph put its anchor, and how far its walls
+//   stand, at the true anchor, from the world's (its content, which no merge can undo);
+// - per ordered pair of robots, the detections' mean error at the true anchors;
+// - the error budget of every pair's first submaps: the graph solved again with the match
+//   edges at the truth, with the consecutive-submap edges at the truth, without the detection
+//   edges, and without them with the consecutive-submap edges at the truth;
+// - per graph edge (but detections), its measurement against the true relation, and for a
+//   match edge where its two submaps alone fit best near the truth: near it, the submaps agree
+//   and the engine misplaced the edge; far from it, the submaps themselves disagree.
+void PrintSubmapDiagnosis(const MergeEngine& engine, const std::map<NodeId, Submap>& submaps,
+                          const RunTruth& known, const MergeEngineOptions& options,
+                          const sim::World& world);
+
+}  // namespace fleetmap
+
+#endif  // FLEETMAP_MAP_SERVER_BENCH_MERGE_SIM_DIAGNOSIS_H_
