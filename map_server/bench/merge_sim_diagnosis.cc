@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -106,7 +107,10 @@ PoseGraph GraphWithTruth(const PoseGraph& merged, const RunTruth& known, bool tr
     graph = PoseGraph();
     for (const auto& [id, pose] : merged.nodes()) graph.SetNode(id, pose);
     for (const RelativeEdge& e : merged.edges()) graph.AddEdge(e);
-    graph.SetFixed({reference, 0});
+    // The reference robot's first node holds the frame (nodes are ordered by robot, then id).
+    const auto first = merged.nodes().lower_bound(NodeId{reference, INT64_MIN});
+    if (first != merged.nodes().end() && first->first.robot == reference)
+      graph.SetFixed(first->first);
   }
   for (size_t i = 0; i < graph.edges().size(); ++i) {
     RelativeEdge e = graph.edges()[i];
