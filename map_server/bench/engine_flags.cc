@@ -138,6 +138,17 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                   "(MergeEngineOptions::cross_retry_growth; 0: once)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_option("--loop-min-id-gap", options->loop_min_id_gap,
+                  "merge engine: loop closures match a new submap against its robot's own submaps "
+                  "at least this many ids older (MergeEngineOptions::loop_min_id_gap)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app->add_option("--loop-translation-sigma", options->loop_translation_sigma,
+                  "merge engine: translation sigma (m) of loop-closure edges within one robot")
+      ->capture_default_str();
+  app->add_option("--loop-rotation-sigma", options->loop_rotation_sigma,
+                  "merge engine: rotation sigma (rad) of loop-closure edges within one robot")
+      ->capture_default_str();
 }
 
 }  // namespace fleetmap

@@ -70,6 +70,10 @@ int main(int argc, char** argv) {
          "--submap-travel", options.submap_travel,
          "scan-matching local SLAM: metres of travel per submap (default: the backend's, 10)")
       ->check(CLI::Range(0.1, 1000.0));
+  app.add_option("--submap-resolution", options.submap_resolution,
+                 "scan-matching local SLAM: the submaps' cell size, metres (default: the "
+                 "backend's, 0.05)")
+      ->check(CLI::Range(0.01, 1.0));
   app.add_flag("--settled-rebuild", options.settled_rebuild,
                "score a fresh engine fed every final submap, trajectory and detection at once "
                "(as the server rebuilds once uploads settle) instead of the engine fed as the "

@@ -101,7 +101,8 @@ void PrintDetectionErrors(const MergeEngine& engine, const RunTruth& known) {
 // The engine's graph with the chosen edges set to the true relations, and without its
 // detection edges when `detections` is false (then held by the reference robot's first node).
 PoseGraph GraphWithTruth(const PoseGraph& merged, const RunTruth& known, bool true_matches,
-                         bool true_chains, bool detections, const std::string& reference) {
+                         bool true_chains, bool detections, const std::string& reference,
+                         bool chain_headings_only = false) {
   PoseGraph graph = merged;
   if (!detections) {
     graph = PoseGraph();
@@ -117,7 +118,10 @@ PoseGraph GraphWithTruth(const PoseGraph& merged, const RunTruth& known, bool tr
     const auto from = TrueAnchor(known, e.from), to = TrueAnchor(known, e.to);
     const bool set = IsMatch(e) ? true_matches : e.kind == EdgeKind::kOdometry && true_chains;
     if (!set || !from || !to) continue;
-    e.to_in_from = from->inverse() * *to;
+    const Rigid2d truth = from->inverse() * *to;
+    e.to_in_from = IsMatch(e) || !chain_headings_only
+                       ? truth
+                       : Rigid2d(e.to_in_from.translation(), truth.rotation());
     graph.UpdateEdge(i, e);
   }
   if (true_matches || true_chains || !detections) graph.Solve();
@@ -128,17 +132,21 @@ void PrintErrorBudget(const MergeEngine& engine, const RunTruth& known) {
   struct Variant {
     const char* name;
     bool true_matches, true_chains, detections;
+    bool chain_headings_only = false;
   };
   const Variant variants[] = {
       {"as merged", false, false, true},
       {"match edges at the truth", true, false, true},
       {"consecutive-submap edges at the truth", false, true, true},
+      {"consecutive-submap edges' headings at the truth", false, true, true, true},
+      {"match and consecutive-submap edges at the truth", true, true, true},
       {"without detection edges", false, false, false},
       {"without detection edges, consecutive-submap edges at the truth", false, true, false},
   };
   for (const Variant& v : variants) {
-    const PoseGraph graph = GraphWithTruth(engine.graph(), known, v.true_matches, v.true_chains,
-                                           v.detections, engine.reference_robot());
+    const PoseGraph graph =
+        GraphWithTruth(engine.graph(), known, v.true_matches, v.true_chains, v.detections,
+                       engine.reference_robot(), v.chain_headings_only);
     std::printf("    first submaps' pairs, %s:", v.name);
     for (size_t a = 0; a < known.names.size(); ++a) {
       for (size_t b = a + 1; b < known.names.size(); ++b) {
@@ -154,27 +162,53 @@ void PrintErrorBudget(const MergeEngine& engine, const RunTruth& known) {
   }
 }
 
-// Where the `to` submap fits best on the `from` submap alone, searched within 0.3 m / 0.02 rad
-// of the truth as the engine refines its match edges; then the mean distance of the matched
-// points to the walls at the edge's measurement, at the truth and at that fit.
-std::string FitNearTruth(const OccupancyGrid& from, const OccupancyGrid& to, const Rigid2d& truth,
-                         const Rigid2d& measured, const MergeEngineOptions& options) {
+// Where the `to` submap fits best on the `from` submap alone within `linear` / `angular` of
+// `centre` (only its points landing where `from` saw anything, as the engine refines its match
+// edges), and the mean distance of the matched points to the walls at each of `poses`, then at
+// that fit.
+struct LocalFit {
+  Rigid2d pose;
+  std::string residuals;
+};
+LocalFit FitWithin(const OccupancyGrid& from, const OccupancyGrid& to, const Rigid2d& centre,
+                   double linear, double angular, const std::vector<Rigid2d>& poses,
+                   const MergeEngineOptions& options) {
   const MatchTarget target(from, options.match);
   MatchSource source = MakeMatchSource(to, Rigid2d(), options.match);
-  KeepPointsSeenBy(from, truth, &source);
+  KeepPointsSeenBy(from, centre, &source);
   SearchWindow window;
-  window.center = truth;
-  window.linear_half_extent = Eigen::Vector2d::Constant(0.3);
-  window.angular_half_extent = 0.02;
+  window.center = centre;
+  window.linear_half_extent = Eigen::Vector2d::Constant(linear);
+  window.angular_half_extent = angular;
   MatchGates gates = WithoutMinimums(options.verify_gates);
   gates.judge_overlap_only = true;
   const MatchResult fit = target.Match(source, window, gates);
-  char text[160];
-  std::snprintf(text, sizeof(text), "best fit near the truth %s; residual %.4f / %.4f / %.4f m",
-                PoseError(fit.pose, truth).c_str(),
-                target.Evaluate(source, measured, gates).residual,
-                target.Evaluate(source, truth, gates).residual, fit.residual);
-  return text;
+  LocalFit result{fit.pose, "residual"};
+  char text[32];
+  for (const Rigid2d& pose : poses) {
+    std::snprintf(text, sizeof(text), " %.4f /", target.Evaluate(source, pose, gates).residual);
+    result.residuals += text;
+  }
+  std::snprintf(text, sizeof(text), " %.4f m", fit.residual);
+  result.residuals += text;
+  return result;
+}
+
+// A match edge: where its two submaps fit best within 0.3 m / 0.02 rad of the truth, and the
+// residuals at the edge's measurement, at the truth and at that fit.
+std::string FitNearTruth(const OccupancyGrid& from, const OccupancyGrid& to, const Rigid2d& truth,
+                         const Rigid2d& measured, const MergeEngineOptions& options) {
+  const LocalFit fit = FitWithin(from, to, truth, 0.3, 0.02, {measured, truth}, options);
+  return "best fit near the truth " + PoseError(fit.pose, truth) + "; " + fit.residuals;
+}
+
+// A consecutive-submap edge: where its two submaps fit best within 0.1 m / 0.01 rad of local
+// SLAM's relation, and the residuals at the truth and at that fit. Could the merge's own
+// matching measure the edge better than local SLAM did?
+std::string ChainFit(const OccupancyGrid& from, const OccupancyGrid& to, const Rigid2d& truth,
+                     const Rigid2d& chain, const MergeEngineOptions& options) {
+  const LocalFit fit = FitWithin(from, to, chain, 0.1, 0.01, {truth}, options);
+  return "the two submaps' own fit " + PoseError(fit.pose, truth) + "; " + fit.residuals;
 }
 
 void PrintEdges(const MergeEngine& engine, const std::map<NodeId, Submap>& submaps,
@@ -184,6 +218,10 @@ void PrintEdges(const MergeEngine& engine, const std::map<NodeId, Submap>& subma
     if (!from || !to) continue;
     const Rigid2d truth = from->inverse() * *to;
     std::string fit;
+    if (e.kind == EdgeKind::kOdometry && submaps.count(e.from) && submaps.count(e.to)) {
+      fit = "; " +
+            ChainFit(submaps.at(e.from).grid, submaps.at(e.to).grid, truth, e.to_in_from, options);
+    }
     if (IsMatch(e) && submaps.count(e.from) && submaps.count(e.to)) {
       fit = "; " + FitNearTruth(submaps.at(e.from).grid, submaps.at(e.to).grid, truth, e.to_in_from,
                                 options);

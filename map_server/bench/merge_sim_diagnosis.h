@@ -15,11 +15,14 @@ namespace fleetmap {
 //   stand, at the true anchor, from the world's (its content, which no merge can undo);
 // - per ordered pair of robots, the detections' mean error at the true anchors;
 // - the error budget of every pair's first submaps: the graph solved again with the match
-//   edges at the truth, with the consecutive-submap edges at the truth, without the detection
-//   edges, and without them with the consecutive-submap edges at the truth;
+//   edges at the truth, with the consecutive-submap edges at the truth (or only their
+//   headings), with both at the truth (what the detection edges alone pull), without the
+//   detection edges, and without them with the consecutive-submap edges at the truth;
 // - per graph edge (but detections), its measurement against the true relation, and for a
 //   match edge where its two submaps alone fit best near the truth: near it, the submaps agree
-//   and the engine misplaced the edge; far from it, the submaps themselves disagree.
+//   and the engine misplaced the edge; far from it, the submaps themselves disagree. For a
+//   consecutive-submap edge, where its two submaps fit best near local SLAM's relation: could
+//   the merge's matching measure it better than local SLAM did?
 void PrintSubmapDiagnosis(const MergeEngine& engine, const std::map<NodeId, Submap>& submaps,
                           const RunTruth& known, const MergeEngineOptions& options,
                           const sim::World& world);

@@ -102,6 +102,7 @@ bool SimRun::Start(std::string* error) {
     choice.algorithm = options_.algorithm;
     choice.submap_scans = options_.submap_scans;
     choice.submap_travel = options_.submap_travel;
+    choice.submap_resolution = options_.submap_resolution;
     slams_.push_back(MakeLocalSlam(choice, error));
     if (!slams_.back()) return false;
   }

@@ -33,6 +33,7 @@ struct BenchOptions {
   std::string algorithm = "scan-matching";  // every robot's local SLAM backend
   int submap_scans = -1;                    // scan-matching submap limits; negative: default
   double submap_travel = -1.0;
+  double submap_resolution = -1.0;
 };
 
 // Runs one simulator scenario (a file path) through every robot's local SLAM into a MergeEngine

@@ -15,6 +15,7 @@ std::unique_ptr<LocalSlam> MakeLocalSlam(const BackendChoice& choice, std::strin
     options.robot_id = choice.robot_id;
     if (choice.submap_scans >= 0) options.submaps.max_scans = choice.submap_scans;
     if (choice.submap_travel >= 0.0) options.submaps.max_travel = choice.submap_travel;
+    if (choice.submap_resolution > 0.0) options.submaps.grid.resolution = choice.submap_resolution;
     return std::make_unique<ScanMatchingSlam>(options);
   }
   if (choice.algorithm == "fastslam" || choice.algorithm == "rbpf") {

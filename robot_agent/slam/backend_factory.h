@@ -27,6 +27,8 @@ struct BackendChoice {
   // backend's default.
   int submap_scans = -1;
   double submap_travel = -1.0;
+  // Scan-matching only: the submaps' cell size (metres); non-positive keeps the backend's.
+  double submap_resolution = -1.0;
 };
 
 // The motion inputs BackendChoice::motion accepts.

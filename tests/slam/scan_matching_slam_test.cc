@@ -1,8 +1,10 @@
 #include "robot_agent/slam/scan_matching_slam.h"
 
-
 #include <gtest/gtest.h>
 
+#include <memory>
+
+#include "robot_agent/slam/backend_factory.h"
 #include "tests/matching/matching_worlds.h"
 #include "tests/slam/slam_test_worlds.h"
 #include "tests/support/test_support.h"
@@ -253,6 +255,24 @@ TEST(ScanMatchingSlamTest, WorksWithoutOdometryForSmallMotions) {
     ASSERT_TRUE(slam.AddScan(Scan(world, start * Rigid2d(0.05 * i, 0.0, 0.0), 0.1 * i), &error));
   }
   EXPECT_THAT(slam.CurrentPose(), IsNearPose(Rigid2d(1.45, 0.0, 0.0), 0.05, 1.0 * kDegree));
+}
+
+// The benches' --submap-resolution reaches the scan-matching backend's submaps; by default they
+// keep the backend's 5 cm.
+TEST(ScanMatchingSlamTest, FactoryPassesTheSubmapResolution) {
+  const testing::SegmentWorld world = testing::CorridorRing();
+  for (double resolution : {-1.0, 0.025}) {
+    BackendChoice choice;
+    choice.submap_resolution = resolution;
+    std::string error;
+    std::unique_ptr<LocalSlam> slam = MakeLocalSlam(choice, &error);
+    ASSERT_NE(slam, nullptr) << error;
+    ASSERT_TRUE(slam->AddScan(Scan(world, LapPoses().front(), 0.0), &error)) << error;
+    slam->Finish();
+    const std::vector<Submap> submaps = slam->TakeSubmapUpdates(100);
+    ASSERT_EQ(submaps.size(), 1u);
+    EXPECT_DOUBLE_EQ(submaps.front().grid.resolution(), resolution > 0.0 ? resolution : 0.05);
+  }
 }
 
 }  // namespace
