@@ -196,11 +196,7 @@ int main(int argc, char** argv) {
                "feed the submaps one at a time in the order they reached the server, with "
                "Update() after each, as a live server folds uploads in (default: all at once)");
   fleetmap::AddEngineFlags(&app, &options);
-  app.add_flag("--diagnose", diagnose,
-               "print, against the truth, every submap's anchor error (local SLAM, merged) and "
-               "wall offset, the detections' mean error, the pairs' error budget (the graph "
-               "solved again with match edges, local SLAM's chains or no detections changed) and "
-               "every graph edge's error (see merge_sim_diagnosis.h)");
+  app.add_flag("--diagnose", diagnose, fleetmap::kDiagnoseHelp);
   CLI11_PARSE(app, argc, argv);
   return fleetmap::Run(db, truth, scenario, options, one_at_a_time, diagnose);
 }

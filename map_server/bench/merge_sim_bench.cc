@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "map_server/bench/engine_flags.h"
+#include "map_server/bench/merge_sim_diagnosis.h"
 #include "map_server/bench/merge_sim_report.h"
 #include "map_server/bench/merge_sim_run.h"
 #include "robot_agent/sim/scenario.h"
@@ -30,11 +31,7 @@ int main(int argc, char** argv) {
   app.add_flag("--detections-only", with_only, "only run with detections")
       ->excludes("--no-detections");
   app.add_flag("--verbose", options.verbose, "print every merge event");
-  app.add_flag("--diagnose", options.diagnose,
-               "print, against the truth, every submap's anchor error (local SLAM, merged) and "
-               "wall offset, the detections' mean error, the pairs' error budget (the graph "
-               "solved again with match edges, local SLAM's chains or no detections changed) and "
-               "every graph edge's error (see merge_sim_diagnosis.h)");
+  app.add_flag("--diagnose", options.diagnose, fleetmap::kDiagnoseHelp);
   app.add_option("--feed-period", options.feed_period, "sim seconds between engine updates")
       ->capture_default_str();
   app.add_option("--detection-period", options.detection_period,

@@ -23,6 +23,13 @@ namespace fleetmap {
 //   and the engine misplaced the edge; far from it, the submaps themselves disagree. For a
 //   consecutive-submap edge, where its two submaps fit best near local SLAM's relation: could
 //   the merge's matching measure it better than local SLAM did?
+// The benches' --diagnose help text.
+inline constexpr const char* kDiagnoseHelp =
+    "print, against the truth, every submap's anchor error (local SLAM, merged) and wall offset, "
+    "the detections' mean error, the pairs' error budget (the graph solved again with match "
+    "edges, local SLAM's chains or their headings at the truth, or no detections) and every "
+    "graph edge's error, with where its two submaps fit each other (see merge_sim_diagnosis.h)";
+
 void PrintSubmapDiagnosis(const MergeEngine& engine, const std::map<NodeId, Submap>& submaps,
                           const RunTruth& known, const MergeEngineOptions& options,
                           const sim::World& world);

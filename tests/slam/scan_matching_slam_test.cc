@@ -258,9 +258,11 @@ TEST(ScanMatchingSlamTest, WorksWithoutOdometryForSmallMotions) {
 }
 
 // The benches' --submap-resolution reaches the scan-matching backend's submaps; by default they
-// keep the backend's 5 cm.
+// keep the backend's.
 TEST(ScanMatchingSlamTest, FactoryPassesTheSubmapResolution) {
   const testing::SegmentWorld world = testing::CorridorRing();
+  const double backend_default = ScanMatchingSlamOptions().submaps.grid.resolution;
+  ASSERT_NE(backend_default, 0.025);  // else the test could not tell the two apart
   for (double resolution : {-1.0, 0.025}) {
     BackendChoice choice;
     choice.submap_resolution = resolution;
@@ -271,7 +273,8 @@ TEST(ScanMatchingSlamTest, FactoryPassesTheSubmapResolution) {
     slam->Finish();
     const std::vector<Submap> submaps = slam->TakeSubmapUpdates(100);
     ASSERT_EQ(submaps.size(), 1u);
-    EXPECT_DOUBLE_EQ(submaps.front().grid.resolution(), resolution > 0.0 ? resolution : 0.05);
+    EXPECT_DOUBLE_EQ(submaps.front().grid.resolution(),
+                     resolution > 0.0 ? resolution : backend_default);
   }
 }
 
