@@ -72,6 +72,10 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                   "waits (MergeEngineOptions::whole_map_max_refuted)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_option("--whole-map-rule-out-higher", options->whole_map_rule_out_higher,
+                  "merge engine: the walls also rule out alternatives scoring more than the join, "
+                  "counted with their tiles fitted (MergeEngineOptions::whole_map_rule_out_higher)")
+      ->capture_default_str();
   app->add_flag("!--no-whole-map-matches", options->whole_map_matches,
                 "merge engine: do not match parts' whole maps when no submap places them "
                 "(MergeEngineOptions::whole_map_matches)");

@@ -267,7 +267,7 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
   }
   twins = std::move(distinct_twins);
   size_t next_twin = 0;
-  for (int refuted = 0, twins_refuted = 0, consistent_refuted = 0;;) {
+  for (int refuted = 0, twins_refuted = 0, consistent_refuted = 0, higher_refuted = 0;;) {
     const bool twin = next_twin < twins.size();
     std::optional<MatchCandidate> other;
     if (twin) {
@@ -280,7 +280,7 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
     verdict.note = "the join puts " + std::to_string(candidate_contradictions) +
                    " wall points in space the other map saw free (and " +
                    std::to_string(candidate_on_trails) + " on the robots' trails)";
-    const int all_refuted = refuted + twins_refuted + consistent_refuted;
+    const int all_refuted = refuted + twins_refuted + consistent_refuted + higher_refuted;
     if (all_refuted > 0) {
       verdict.note += "; the whole maps' walls rule out " + std::to_string(all_refuted) +
                       " other alignment(s) scoring nearly as well (" + ruled_out.str() + ")";
@@ -303,8 +303,13 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
     // fit, which moves walls at the far end of a map past the margin (an alternative 0.5 m from
     // a department join crossed 283 points there and 52 refined; session 22). The fewer of the
     // two counts.
+    // One that scores more than the join is ruled out only by walls its tiles, fitted as the
+    // join's are, still put in seen-free space: explaining more of the maps, it has to be
+    // refuted by more than local SLAM's drift (whole_map_rule_out_higher).
+    const bool higher = !twin && at_other.score > at_candidate.score;
+    const bool fitted = higher && options_.whole_map_rule_out_higher;
     const int other_contradictions =
-        std::min(contradictions(other->pose, false), contradictions(refined(other->pose), false));
+        std::min(contradictions(other->pose, fitted), contradictions(refined(other->pose), fitted));
     // An alignment overlapping a's map less has fewer points to cross its seen-free space with:
     // the minimum shrinks with its overlap (east_end's corridors overlapping a quarter of a map
     // turned round crossed 12-34 points, session 31).
@@ -313,14 +318,19 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
     const bool ruled_out_by_walls =
         options_.whole_map_min_contradictions > 0 &&
         candidate_contradictions <= options_.whole_map_max_join_contradictions &&
-        (twin || at_other.score <= at_candidate.score) &&
+        (twin || !higher || options_.whole_map_rule_out_higher) &&
         other_contradictions >=
             overlap_share * options_.whole_map_min_contradictions +
                 options_.whole_map_contradiction_ratio * candidate_contradictions;
     // Twins come from the maps' symmetries, and the second search finds many alignments
-    // overlapping little: neither uses up the alternatives the walls may rule out.
-    int& count = twin ? twins_refuted : consistent ? consistent_refuted : refuted;
-    if (ruled_out_by_walls && (twin || count < max_refuted)) {
+    // overlapping little: neither uses up the alternatives the walls may rule out. Nor do those
+    // scoring more: in building_4robots offices repeat over 160 m, and raising the limit instead
+    // let department_3robots join robot3 half-turned (session 39).
+    int& count = twin         ? twins_refuted
+                 : higher     ? higher_refuted
+                 : consistent ? consistent_refuted
+                              : refuted;
+    if (ruled_out_by_walls && (twin || higher || count < max_refuted)) {
       ruled_out << (all_refuted > 0 ? "; " : "");
       describe(ruled_out, apart);
       ruled_out << ": " << other_contradictions << " wall points in seen-free space against "

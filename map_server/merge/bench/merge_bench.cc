@@ -35,6 +35,7 @@ struct Config {
   double step = 0.25;             // metres between scans
   double whole_map_ambiguity = MergeEngineOptions().whole_map_ambiguity;
   int whole_map_min_contradictions = MergeEngineOptions().whole_map_min_contradictions;
+  bool whole_map_rule_out_higher = MergeEngineOptions().whole_map_rule_out_higher;
   double cross_retry_growth = MergeEngineOptions().cross_retry_growth;
   double edge_refine_window = MergeEngineOptions().edge_refine_window;
   int search_threads = MergeEngineOptions().search_threads;
@@ -104,6 +105,7 @@ int Run(const Config& c) {
   options.local_constraints = c.local_constraints;
   options.whole_map_ambiguity = c.whole_map_ambiguity;
   options.whole_map_min_contradictions = c.whole_map_min_contradictions;
+  options.whole_map_rule_out_higher = c.whole_map_rule_out_higher;
   options.cross_retry_growth = c.cross_retry_growth;
   options.edge_refine_window = c.edge_refine_window;
   options.search_threads = c.search_threads;
@@ -289,6 +291,10 @@ int main(int argc, char** argv) {
                  "that puts this many there itself waits "
                  "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--whole-map-rule-out-higher", c.whole_map_rule_out_higher,
+                 "The walls also rule out alternatives scoring more than the join, counted with "
+                 "their tiles fitted (MergeEngineOptions::whole_map_rule_out_higher)")
       ->capture_default_str();
   app.add_option("--cross-retry-growth", c.cross_retry_growth,
                  "a submap not yet joined is searched over another component's map again once "
