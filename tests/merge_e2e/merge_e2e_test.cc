@@ -114,9 +114,9 @@ class MergeE2eTest : public ::testing::Test {
   // Every robot placed, the latest version the rebuild after the uploads settled, and no new
   // version for 2 s: the agents' outboxes are drained before this is called, so the worker has
   // folded in all they sent. The joins made as uploads came in depend on their order (on
-  // 2026-12-06 CI left robot2 waiting: its join withdrawn as the maps grew, a half-turned
-  // alternative 0.3 m away as consistent over a third of the overlap); the rebuild replays the
-  // store at once, as the demo's launcher sees it.
+  // 2026-12-07 CI, of session 39's commits, left robot2 waiting: its join withdrawn as the maps
+  // grew, a half-turned alternative 0.3 m away as consistent over a third of the overlap); the
+  // rebuild replays the store at once, as the demo's launcher sees it.
   bool WaitAllPlaced(double seconds, v1::GetRobotsResponse* robots) {
     const auto now = [] { return std::chrono::steady_clock::now(); };
     const auto deadline = now() + std::chrono::duration<double>(seconds);
