@@ -132,9 +132,9 @@ struct MergeEngineOptions {
   // these do not count against whole_map_max_refuted. building_4robots' robot4 without
   // detections waited on office rows repeated 69-160 m away: they overlap more than its true
   // join, so score more, and cross 95-141 points against its 0 (session 39). On since session
-  // 40: without detections building_4robots 27 / 48 pairs over 8 seeds (24 / 48), every other
-  // scenario unchanged, 0 false merges; with detections the same to the digit on the two runs
-  // compared (docs/BENCHMARKS.md, issue 8, session 40).
+  // 40: without detections building_4robots 27 / 48 pairs over 8 seeds (3 / 6 before on each of
+  // the 4 seeds run again), every other scenario unchanged, 0 false merges; with detections the
+  // same to the digit on the two runs compared (docs/BENCHMARKS.md, issue 8, session 40).
   bool whole_map_rule_out_higher = true;
   // Wall points are not counted as seen through when their blob of wall cells lies wholly within
   // whole_map_body_radius (plus half a cell's diagonal) of where a robot of either part drove,
