@@ -35,6 +35,11 @@ float LogOddsCanvas::Sum(int i, int j) const {
   return sums_[static_cast<size_t>(y) * width_ + x];
 }
 
+bool LogOddsCanvas::ObservedAt(const Eigen::Vector2d& point) const {
+  const Eigen::Vector2d cell = (point / resolution_).array().floor();
+  return std::abs(Sum(static_cast<int>(cell.x()), static_cast<int>(cell.y()))) >= kZero;
+}
+
 void LogOddsCanvas::Add(int i, int j, float value) {
   GrowToInclude(Eigen::Array2i(i, j), Eigen::Array2i(i, j));
   sums_[static_cast<size_t>(j - min_cell_.y()) * width_ + (i - min_cell_.x())] += value;

@@ -32,6 +32,8 @@ class LogOddsCanvas {
   int height() const { return height_; }
 
   float Sum(int i, int j) const;  // lattice cell; 0 outside
+  // Whether some submap observed the cell holding `point` (its sum does not cancel to zero).
+  bool ObservedAt(const Eigen::Vector2d& point) const;
   void Add(int i, int j, float value);
   void GrowToInclude(const Eigen::Array2i& lo, const Eigen::Array2i& hi);
 

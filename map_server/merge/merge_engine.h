@@ -14,6 +14,8 @@
 #include "map_server/merge/merge_engine_options.h"
 #include "map_server/merge/merge_types.h"
 #include "map_server/merge/pose_graph.h"
+#include "map_server/merge/trail_walls.h"
+#include "map_server/merge/whole_map_walls.h"
 #include "shared/core/occupancy_grid.h"
 #include "shared/core/robot_detection.h"
 #include "shared/core/submap.h"
@@ -168,6 +170,9 @@ class MergeEngine {
   int MaxRefuted(const Hypothesis& h) const;
   // Where the robots of a part drove (scan positions, its component's frame).
   std::vector<Eigen::Vector2d> TrailPositions(const Part& members) const;
+  // Where the part's robots drove, widened by a body (whole_map_body_radius).
+  TrailMask PartTrails(const Part& members) const;
+  WallCountOptions WholeMapWallCounting() const;
   // merge_engine_whole_map_match.cc
   OccupancyGrid RenderPart(const Part& members, double resolution) const;
   MatchTargetOptions WholeMapMatchOptions() const;
@@ -182,6 +187,10 @@ class MergeEngine {
   // Whether more than verify_max_seen_before of submap `id`'s walls lie on cells that `seen`
   // (submaps of the same robot) observed.
   bool MostlySeenBefore(const std::string& robot, int64_t id, const std::set<int64_t>& seen) const;
+  // The share of submap `id` of `robot`'s walls that land, placed at `submap_to_frame`, on cells
+  // the part rooted at `root` observed.
+  double ShareOnPart(const std::string& robot, int64_t id, const Rigid2d& submap_to_frame,
+                     const std::string& root) const;
   int FinishedSubmaps(const std::string& root) const;
   // The roots of the parts other than `robot`'s that hold a map.
   std::set<std::string> OtherRoots(const std::string& robot) const;

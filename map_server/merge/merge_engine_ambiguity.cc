@@ -16,35 +16,13 @@
 #include "map_server/merge/map_symmetries.h"
 #include "map_server/merge/merge_engine.h"
 #include "map_server/merge/trail_walls.h"
+#include "map_server/merge/whole_map_walls.h"
 
 namespace fleetmap {
 
 namespace {
 
 constexpr double kTrailResolution = 0.05;  // metres
-
-// The wall points of a map a robot's body does not explain: `blob_of[i]` is point i's blob,
-// excused where `own` (the map's own robots' trails) or `other` (the other part's) says so.
-std::vector<Eigen::Vector2d> WallsOffTrails(const std::vector<Eigen::Vector2d>& points,
-                                            const std::vector<int>& blob_of,
-                                            const std::vector<bool>& own,
-                                            const std::vector<bool>& other) {
-  std::vector<Eigen::Vector2d> kept;
-  kept.reserve(points.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    const int blob = blob_of[i];
-    if (blob >= 0 && (own[blob] || other[blob])) continue;
-    kept.push_back(points[i]);
-  }
-  return kept;
-}
-
-std::vector<int> BlobsOf(const WallBlobs& blobs, const std::vector<Eigen::Vector2d>& points) {
-  std::vector<int> blob_of;
-  blob_of.reserve(points.size());
-  for (const Eigen::Vector2d& p : points) blob_of.push_back(blobs.BlobAt(p));
-  return blob_of;
-}
 
 }  // namespace
 
@@ -64,6 +42,21 @@ std::vector<Eigen::Vector2d> MergeEngine::TrailPositions(const Part& members) co
     }
   }
   return positions;
+}
+
+TrailMask MergeEngine::PartTrails(const Part& members) const {
+  // An empty mask excuses nothing (whole_map_body_radius 0).
+  if (!(options_.whole_map_body_radius > 0.0)) return TrailMask({}, 0.0, kTrailResolution);
+  const double radius = options_.whole_map_body_radius + options_.whole_map_resolution * M_SQRT1_2;
+  return TrailMask(TrailPositions(members), radius, kTrailResolution);
+}
+
+WallCountOptions MergeEngine::WholeMapWallCounting() const {
+  WallCountOptions counting;
+  counting.tile = options_.whole_map_contradiction_tile;
+  counting.window = options_.whole_map_contradiction_window;
+  counting.window_per_metre = options_.whole_map_contradiction_window_per_metre;
+  return counting;
 }
 
 MergeEngine::WholeMapVerdict MergeEngine::WholeMapAmbiguity(const std::string& root_a,
@@ -89,28 +82,12 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
                                                           int max_refuted) const {
   const double resolution = options_.whole_map_resolution;
   const MatchTargetOptions match_options = WholeMapMatchOptions();
-  const OccupancyGrid map_a = RenderPart(part_a, resolution),
-                      map_b = RenderPart(part_b, resolution);
-  const MatchTarget target(map_a, match_options);
-  MatchSource source = MakeMatchSource(map_b, Rigid2d(), match_options);
-  if (target.empty() || source.coarse.empty()) return {};
-  // The other direction, for contradictions: a's walls in space b saw free.
-  const MatchTarget reverse_target(map_b, match_options);
-  const MatchSource reverse_source = MakeMatchSource(map_a, Rigid2d(), match_options);
-  // Bodies mapped where robots passed are not walls seen through (trail_walls.h).
-  const float occupied = match_options.grid.occupied_log_odds;
-  const WallBlobs blobs_a(map_a, occupied), blobs_b(map_b, occupied);
-  const std::vector<int> blob_of_a = BlobsOf(blobs_a, reverse_source.fine);
-  const std::vector<int> blob_of_b = BlobsOf(blobs_b, source.fine);
-  const double trail_radius = options_.whole_map_body_radius + resolution * M_SQRT1_2;
-  const auto trails_of = [&](const Part& part) {
-    // An empty mask excuses nothing (whole_map_body_radius 0).
-    if (!(options_.whole_map_body_radius > 0.0)) return TrailMask({}, 0.0, kTrailResolution);
-    return TrailMask(TrailPositions(part), trail_radius, kTrailResolution);
-  };
-  const TrailMask trails_a = trails_of(part_a), trails_b = trails_of(part_b);
-  const std::vector<bool> own_a = blobs_a.OnTrails(trails_a, Rigid2d());
-  const std::vector<bool> own_b = blobs_b.OnTrails(trails_b, Rigid2d());
+  const OccupancyGrid map_a = RenderPart(part_a, resolution);
+  const WholeMapWalls walls(map_a, RenderPart(part_b, resolution), match_options,
+                            PartTrails(part_a), PartTrails(part_b), WholeMapWallCounting());
+  if (walls.empty()) return {};
+  const MatchTarget& target = walls.target_a();
+  const MatchSource& source = walls.centred_b();
   // Moves under which either map fits itself (the department turned half round): the join
   // followed by one is a twin no search by score may reach (map_symmetries.h).
   std::vector<Rigid2d> symmetries_a, symmetries_b;
@@ -123,22 +100,17 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
     symmetry.distinct = options_.cross_gates.distinct;
     symmetry.gates = options_.cross_gates;
     const auto cached = [&](const Part& part, const MatchTarget& map, const MatchSource& points,
-                            const std::vector<int>& blob_of, const std::vector<bool>& own) {
+                            const std::vector<Eigen::Vector2d>& own_walls) {
       const std::string stamp = PartStamp(part);
       CachedSymmetries& entry = symmetries_[PartKey(part)];
-      if (entry.stamp != stamp) {
-        entry = {stamp, MapSymmetries(map, points, WallsOffTrails(points.fine, blob_of, own, own),
-                                      symmetry)};
-      }
+      if (entry.stamp != stamp) entry = {stamp, MapSymmetries(map, points, own_walls, symmetry)};
       return entry.moves;
     };
-    symmetries_a = cached(part_a, target, reverse_source, blob_of_a, own_a);
-    symmetries_b = cached(part_b, reverse_target, source, blob_of_b, own_b);
+    symmetries_a = cached(part_a, target, walls.points_a(), walls.WallsOffOwnTrailsA());
+    symmetries_b = cached(part_b, walls.target_b(), walls.points_b(), walls.WallsOffOwnTrailsB());
   }
-  // Turn about the source's centroid, so that the window only has to cover the target.
-  const Eigen::Vector2d c = Centroid(source.coarse);
-  TransformSource(Rigid2d(-c, 0.0), &source);
-  const Rigid2d candidate = b_in_a * Rigid2d(c, 0.0);
+  const Eigen::Vector2d c = walls.centroid_b();
+  const Rigid2d candidate = walls.Centred(b_in_a);
   const MatchResult at_candidate = target.Evaluate(source, candidate, options_.cross_gates);
   std::ostringstream why;
   why.precision(3);
@@ -146,31 +118,14 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
     why << "the whole maps contradict it (score " << at_candidate.score << ")";
     return {why.str(), ""};
   }
-  // Walls of either map inside space the other saw free, at an alignment of the centred source,
-  // but for those on the robots' trails there. The join's are counted with each tile of a map
-  // fitted on its own first (whole_map_contradiction_window): local SLAM's drift is no wall seen
-  // through. An alternative's are counted rigidly.
-  const auto crossings = [&](const MatchTarget& map, const std::vector<Eigen::Vector2d>& walls,
-                             const Rigid2d& pose, bool fitted) {
-    return map.LocallyFittedContradictionsAt(walls, pose, options_.whole_map_contradiction_tile,
-                                             fitted ? options_.whole_map_contradiction_window : 0.0,
-                                             options_.whole_map_contradiction_window_per_metre);
-  };
-  const auto contradictions = [&](const Rigid2d& centred_b_in_a, bool fitted) {
-    const Rigid2d whole_b_in_a = centred_b_in_a * Rigid2d(-c, 0.0);
-    const std::vector<Eigen::Vector2d> walls_b =
-        WallsOffTrails(source.fine, blob_of_b, own_b, blobs_b.OnTrails(trails_a, whole_b_in_a));
-    const std::vector<Eigen::Vector2d> walls_a = WallsOffTrails(
-        reverse_source.fine, blob_of_a, own_a, blobs_a.OnTrails(trails_b, whole_b_in_a.inverse()));
-    return crossings(target, walls_b, centred_b_in_a, fitted) +
-           crossings(reverse_target, walls_a, whole_b_in_a.inverse(), fitted);
-  };
-  const int candidate_contradictions = contradictions(candidate, true);
+  // Walls of either map inside space the other saw free, but for those on the robots' trails
+  // there. The join's are counted with each tile of a map fitted on its own first
+  // (whole_map_contradiction_window): local SLAM's drift is no wall seen through. An
+  // alternative's are counted rigidly.
+  const int candidate_contradictions = walls.Contradictions(candidate, true);
   // Tiles fitted with and without the trails' walls can differ: never below 0.
   const int candidate_on_trails =
-      std::max(0, crossings(target, source.fine, candidate, true) +
-                      crossings(reverse_target, reverse_source.fine, b_in_a.inverse(), true) -
-                      candidate_contradictions);
+      std::max(0, walls.ContradictionsWithTrails(candidate) - candidate_contradictions);
   // The best fit near a lattice pose (within a cell and a few steps of heading).
   const auto refined = [&](const Rigid2d& pose) {
     return target.BestFitNear(source, pose, options_.cross_gates);
@@ -308,8 +263,8 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
     // refuted by more than local SLAM's drift (whole_map_rule_out_higher).
     const bool higher = !twin && at_other.score > at_candidate.score;
     const bool fitted = higher && options_.whole_map_rule_out_higher;
-    const int other_contradictions =
-        std::min(contradictions(other->pose, fitted), contradictions(refined(other->pose), fitted));
+    const int other_contradictions = std::min(walls.Contradictions(other->pose, fitted),
+                                              walls.Contradictions(refined(other->pose), fitted));
     // An alignment overlapping a's map less has fewer points to cross its seen-free space with:
     // the minimum shrinks with its overlap (east_end's corridors overlapping a quarter of a map
     // turned round crossed 12-34 points, session 31).

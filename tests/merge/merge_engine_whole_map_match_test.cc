@@ -47,6 +47,32 @@ TEST_P(WholeMapMatchTest, TheWholeMapsPlaceRobotsNoSubmapMatchPlaced) {
 
 INSTANTIATE_TEST_SUITE_P(Headings, WholeMapMatchTest, ::testing::Values(-3.0, -1.2, 0.4, 2.4));
 
+// a tours the office's left and middle rooms twice. b starts in the office's right rooms, which
+// a never saw, and only then drives through the middle room into the left one. The whole-map
+// alignment of b's (smaller) map on a's is confirmed by another submap of b only where that
+// lands on a's map: b's first submaps (by id) cannot confirm it.
+TEST(WholeMapMatchVerifyTest, SubmapsLandingOnTheOtherMapConfirmTheWholeMaps) {
+  const std::vector<Rigid2d> a_path = testing::PathThrough(
+      {{2, 6}, {6, 6}, {10, 6}, {10, 10}, {11, 10.5}, {10, 6}, {6, 6}, {3.5, 5}, {3.5, 9}}, 0.25);
+  const SimRobot a{"a", a_path, Rigid2d(2, 6, 0.3)};
+  const std::vector<Rigid2d> b_path = testing::PathThrough(
+      {{15, 10}, {18.5, 10}, {18.5, 2.5}, {14.5, 3}, {14, 5}, {10, 6}, {6, 6.3}}, 0.25);
+  const SimRobot b{"b", b_path, Rigid2d(b_path.front().translation(), 2.4)};
+  MergeEngine engine(WholeMapsOnly(true));
+  Feed(testing::OfficeWorld(), a, &engine);
+  Feed(testing::OfficeWorld(), b, &engine);
+  std::string reasons;
+  for (int i = 0; i == 0 || (i < 20 && engine.HasPendingWork()); ++i) {
+    for (const AlignmentEvent& e : engine.Update().events) reasons += e.reason + "\n";
+  }
+  const auto rel = EstimatedRelative(engine, "a", "b");
+  ASSERT_TRUE(rel) << "b was not placed:\n" << reasons;
+  const Rigid2d error = TrueRelative(a, b).inverse() * *rel;
+  EXPECT_LT(error.translation().norm(), 0.05) << reasons;
+  EXPECT_LT(std::abs(error.rotation()), 0.01) << reasons;
+  EXPECT_NE(reasons.find("whole maps matched"), std::string::npos) << reasons;
+}
+
 TEST(WholeMapMatchOffTest, WithoutWholeMapMatchesTheRobotsStayApart) {
   const SimRobot a = merge_fixtures::RobotA(), b = merge_fixtures::RobotB(0.4);
   MergeEngine engine(WholeMapsOnly(false));
