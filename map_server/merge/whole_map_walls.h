@@ -11,7 +11,8 @@
 
 namespace fleetmap {
 
-// How walls seen through are counted (MatchTarget::LocallyFittedContradictionsAt).
+// How walls seen through are counted (MatchTarget::LocallyFittedContradictionsAt). The merge
+// engine sets these from MergeEngineOptions::whole_map_contradiction_*; the defaults are its.
 struct WallCountOptions {
   double tile = 8.0;               // metres
   double window = 0.4;             // metres, when fitted

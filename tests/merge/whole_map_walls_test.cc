@@ -70,7 +70,8 @@ TEST_F(WholeMapWallsTest, AShiftedAlignmentCrossesSeenFreeSpace) {
 }
 
 // Bodies on trails are not walls seen through: the whole office is on a trail of b's robots
-// (a radius reaching every wall), so no wall of b's counts, while a's still do.
+// (a radius reaching every wall). b's own walls are all excused, a's (no trails of its own) none;
+// aligned, a's walls land on b's trails too, so fewer count than with the trails' walls.
 TEST_F(WholeMapWallsTest, WallsOnTheirOwnPartsTrailsAreExcused) {
   const std::vector<Rigid2d> rooms = OfficeRooms();
   std::vector<Eigen::Vector2d> trail_in_b;
