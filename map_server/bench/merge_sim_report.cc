@@ -55,7 +55,9 @@ void PrintSummary(const std::string& name, bool detections, const std::vector<Ru
   if (runs.size() < 2) return;
   double map_sum = 0.0, map_min = 1.0, map_max = 0.0, worst_pair = 0.0, fit_sum = 0.0;
   int merged = 0, pairs = 0, false_merges = 0, overlapping = 0, overlapping_placed = 0;
+  int false_as_fed = 0;
   for (const RunResult& r : runs) {
+    false_as_fed += r.false_merges_as_fed;
     map_sum += r.map_accuracy;
     fit_sum += r.map_accuracy_best_fit;
     map_min = std::min(map_min, r.map_accuracy);
@@ -74,10 +76,11 @@ void PrintSummary(const std::string& name, bool detections, const std::vector<Ru
   std::printf(
       "  SUMMARY %s (%s), %zu seeds: map %.2f %% mean (%.2f-%.2f; best rigid fit %.2f %% "
       "mean), worst pair %.3f m, merged pairs %d/%d (overlapping by %.0f %% or more: %d/%d), "
-      "false merges %d\n",
+      "false merges %d (as the run went: %d)\n",
       name.c_str(), detections ? "with detections" : "no detections", runs.size(),
       100.0 * map_sum / n, 100.0 * map_min, 100.0 * map_max, 100.0 * fit_sum / n, worst_pair,
-      merged, pairs, 100.0 * kMinPairOverlap, overlapping_placed, overlapping, false_merges);
+      merged, pairs, 100.0 * kMinPairOverlap, overlapping_placed, overlapping, false_merges,
+      false_as_fed);
   std::fflush(stdout);
 }
 

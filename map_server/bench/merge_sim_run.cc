@@ -66,6 +66,8 @@ class SimRun {
   // The robots' new submaps, trajectories and detections into the engine, then Update().
   void Feed(bool last);
   void PrintEvents(const MergeUpdate& update) const;
+  // Notes the pairs the merge as fed now places beyond the false-merge thresholds.
+  void NoteFalseJoins();
   // As the server's worker rebuilds from its store once uploads settle.
   void RebuildAsSettled(MergeEngine* rebuilt) const;
 
@@ -93,6 +95,9 @@ class SimRun {
   std::map<NodeId, Submap> latest_submaps_;  // as the engine has them, for ScoreMapBounds
   std::vector<NodeId> arrival_;              // first arrival order, for a rebuild
   std::vector<RobotDetection> all_detections_;
+  // Per robot pair (PairErrors' order): when the merge as fed first placed it beyond the
+  // false-merge thresholds (simulated seconds), and how far off.
+  std::map<size_t, std::pair<double, Rigid2d>> false_as_fed_;
 };
 
 bool SimRun::Start(std::string* error) {
@@ -220,12 +225,24 @@ void SimRun::Feed(bool last) {
   const auto start = std::chrono::steady_clock::now();
   const MergeUpdate update = engine_.Update();
   PrintEvents(update);
+  NoteFalseJoins();
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   update_ms_.push_back(ms);
   if (new_submaps > 0) fold_ms_.push_back(ms / new_submaps);
   // Postponed searches, as the server's worker runs them while idle.
-  for (int i = 0; i < 1000 && engine_.HasPendingWork(); ++i) PrintEvents(engine_.Update());
+  for (int i = 0; i < 1000 && engine_.HasPendingWork(); ++i) {
+    PrintEvents(engine_.Update());
+    NoteFalseJoins();
+  }
+}
+
+void SimRun::NoteFalseJoins() {
+  const std::vector<std::optional<Rigid2d>> errors = PairErrors(engine_, truth_);
+  for (size_t k = 0; k < errors.size(); ++k) {
+    if (errors[k] && IsFalseMerge(*errors[k], options_.false_translation, options_.false_rotation))
+      false_as_fed_.emplace(k, std::make_pair(result_->sim_seconds, *errors[k]));
+  }
 }
 
 void SimRun::PrintEvents(const MergeUpdate& update) const {
@@ -306,6 +323,24 @@ bool SimRun::Score(std::string* error) {
         "  as fed: map %.2f %%, disagreement %.5f; rebuilt: map %.2f %%, disagreement %.5f",
         100.0 * as_fed.map_accuracy, engine_.Quality().disagreement_fraction(),
         100.0 * whole.map_accuracy, rebuilt.Quality().disagreement_fraction());
+    result_->lines.push_back(line);
+  }
+  result_->false_merges_as_fed = static_cast<int>(false_as_fed_.size());
+  {
+    std::string line = "  false joins as the run went: " + std::to_string(false_as_fed_.size());
+    size_t k = 0;
+    for (size_t a = 0; a < n_; ++a) {
+      for (size_t b = a + 1; b < n_; ++b, ++k) {
+        const auto it = false_as_fed_.find(k);
+        if (it == false_as_fed_.end()) continue;
+        const auto& [t, off] = it->second;
+        char text[160];
+        std::snprintf(text, sizeof(text), "; %s-%s from t=%.0f s (%.2f m, %.1f deg off)",
+                      infos_[a].name.c_str(), infos_[b].name.c_str(), t, off.translation().norm(),
+                      std::abs(NormalizeAngle(off.rotation())) * 180.0 / M_PI);
+        line += text;
+      }
+    }
     result_->lines.push_back(line);
   }
   const MergeEngine& scored = rebuild_kept ? rebuilt : engine_;

@@ -162,28 +162,52 @@ void ScoreMapBounds(const std::map<NodeId, Submap>& submaps, const RunTruth& kno
   for (const LogOddsCanvas& canvas : local) result->map_local_per_robot.push_back(score(canvas));
 }
 
-void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::World& world,
-                double false_translation, double false_rotation, RunResult* result,
-                std::string* error) {
-  // Relative transforms between every pair of robots' start frames against the truth. A start
-  // frame is placed where the merged graph put the robot's first submap: RobotToGlobal() frames
-  // the robot by its latest submap, so it also carries the local SLAM drift since the start
-  // (printed for reference).
+std::vector<std::optional<Rigid2d>> PairErrors(const MergeEngine& engine, const RunTruth& known) {
+  // A start frame is placed where the merged graph put the robot's first submap:
+  // RobotToGlobal() frames the robot by its latest submap, so it also carries the local SLAM
+  // drift since the start.
   const std::map<NodeId, Rigid2d> poses = engine.SubmapPoses();
   const auto start_in_global = [&](size_t i) -> std::optional<Rigid2d> {
     const auto it = poses.find(NodeId{known.names[i], 0});
-    if (it == poses.end() || !known.first_submap_in_local[i]) return std::nullopt;
+    if (it == poses.end() || !known.first_submap_in_local[i] || !known.local_in_world[i] ||
+        !engine.RobotToGlobal(known.names[i])) {
+      return std::nullopt;
+    }
     return it->second * known.first_submap_in_local[i]->inverse();
   };
+  std::vector<std::optional<Rigid2d>> errors;
   for (size_t a = 0; a < known.names.size(); ++a) {
     for (size_t b = a + 1; b < known.names.size(); ++b) {
-      ++result->pairs;
       const auto ga = start_in_global(a);
       const auto gb = start_in_global(b);
-      const auto la = engine.RobotToGlobal(known.names[a]);
-      const auto lb = engine.RobotToGlobal(known.names[b]);
+      if (!ga || !gb) {
+        errors.push_back(std::nullopt);
+        continue;
+      }
+      const Rigid2d truth = known.local_in_world[a]->inverse() * *known.local_in_world[b];
+      errors.push_back(truth.inverse() * (ga->inverse() * *gb));
+    }
+  }
+  return errors;
+}
+
+bool IsFalseMerge(const Rigid2d& error, double false_translation, double false_rotation) {
+  return error.translation().norm() > false_translation ||
+         std::abs(NormalizeAngle(error.rotation())) > false_rotation;
+}
+
+void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::World& world,
+                double false_translation, double false_rotation, RunResult* result,
+                std::string* error) {
+  // Relative transforms between every pair of robots' start frames against the truth; the
+  // latest submaps' frames are printed for reference.
+  const std::vector<std::optional<Rigid2d>> errors = PairErrors(engine, known);
+  size_t k = 0;
+  for (size_t a = 0; a < known.names.size(); ++a) {
+    for (size_t b = a + 1; b < known.names.size(); ++b, ++k) {
+      ++result->pairs;
       char line[256];
-      if (!ga || !gb || !la || !lb || !known.local_in_world[a] || !known.local_in_world[b]) {
+      if (!errors[k]) {
         std::snprintf(line, sizeof(line), "  %s-%s: not merged", known.names[a].c_str(),
                       known.names[b].c_str());
         result->lines.push_back(line);
@@ -192,15 +216,15 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::Wor
       }
       ++result->placed_pairs;
       result->pair_placed.push_back(true);
-      const Rigid2d estimated = ga->inverse() * *gb;
-      const Rigid2d truth = known.local_in_world[a]->inverse() * *known.local_in_world[b];
-      const Rigid2d diff = truth.inverse() * estimated;
+      const Rigid2d& diff = *errors[k];
       const double t = diff.translation().norm();
       const double r = std::abs(NormalizeAngle(diff.rotation()));
-      if (t > false_translation || r > false_rotation) ++result->false_merges;
+      if (IsFalseMerge(diff, false_translation, false_rotation)) ++result->false_merges;
       result->max_translation = std::max(result->max_translation, t);
       result->max_rotation = std::max(result->max_rotation, r);
-      const Rigid2d latest = truth.inverse() * (la->inverse() * *lb);
+      const Rigid2d truth = known.local_in_world[a]->inverse() * *known.local_in_world[b];
+      const Rigid2d latest = truth.inverse() * (engine.RobotToGlobal(known.names[a])->inverse() *
+                                                *engine.RobotToGlobal(known.names[b]));
       std::snprintf(line, sizeof(line),
                     "  %s-%s: %.3f m, %.3f deg (latest submaps' frames: %.3f m, %.3f deg)",
                     known.names[a].c_str(), known.names[b].c_str(), t, r * 180.0 / M_PI,
@@ -210,6 +234,7 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::Wor
     }
   }
   // Local consistency: nearby submaps of different robots.
+  const std::map<NodeId, Rigid2d> poses = engine.SubmapPoses();
   std::vector<std::pair<NodeId, Rigid2d>>
       true_anchors;  // placed submaps' true anchors in the world
   for (const auto& [id, pose] : poses) {

@@ -20,6 +20,10 @@ struct RunResult {
   int pairs = 0;
   int placed_pairs = 0;
   int false_merges = 0;
+  // Pairs placed beyond the false-merge thresholds after some Update() as the run went, whether
+  // or not a later review or the settled rebuild put them right: every accepted change is a
+  // version of the map a user can read, so a wrong join withdrawn later still counts.
+  int false_merges_as_fed = 0;
   int64_t masked_returns = 0;          // laser returns off seen robots kept out of local SLAM
   int64_t laser_bodies = 0;            // round bodies the laser alone found
   int64_t laser_bodies_on_robots = 0;  // of those, within 0.3 m of another robot's true centre
@@ -73,6 +77,12 @@ struct RunTruth {
   // that scan's time; with the truth at that time this gives the anchor's true pose.
   std::map<NodeId, std::pair<Rigid2d, double>> anchors;
 };
+
+// Per robot pair (a < b, in the order ScoreMerge lists them): the error of the merge's relative
+// pose between the two robots' start frames against the truth, when the merge places both.
+std::vector<std::optional<Rigid2d>> PairErrors(const MergeEngine& engine, const RunTruth& known);
+// Whether a pair's error is beyond the false-merge thresholds.
+bool IsFalseMerge(const Rigid2d& error, double false_translation, double false_rotation);
 
 // The true anchor of a submap in the world, when the truth has its first scan's time.
 std::optional<Rigid2d> TrueAnchor(const RunTruth& known, const NodeId& id);
