@@ -87,7 +87,9 @@ void ExpectTheJoinToWaitOnTheTurnedRooms(bool rule_out_higher, bool crates) {
   const std::string reasons = RunUpdates(engine.get());
   EXPECT_FALSE(engine->RobotToGlobal("b")) << reasons;
   EXPECT_NE(reasons.find("ambiguous over the whole maps"), std::string::npos) << reasons;
-  EXPECT_NE(reasons.find("180 deg away fits as well"), std::string::npos) << reasons;
+  // Found by the search, or as the join's twin under a map's own symmetry (the turned rooms).
+  EXPECT_NE(reasons.find("180 deg away"), std::string::npos) << reasons;
+  EXPECT_NE(reasons.find("fits as well"), std::string::npos) << reasons;
 }
 
 TEST(MergeEngineRuleOutHigherTest, WithoutTheOptionTheTurnedRoomsKeepTheJoinWaiting) {
