@@ -177,7 +177,7 @@ struct MergeEngineOptions {
   // part's moves are kept until its map changes. Off (0) until session 42: with the 2.5 cm local
   // map it kept seed +0's wrong join waiting (its twin was the true alignment) but not seed +3's,
   // and east_end waited on partial half turns of its corridors (session 30). On (4, the value
-  // sessions 30 and 41 measured, not tuned) since session 42, when the bench began counting
+  // session 32 measured, not tuned) since session 42, when the bench began counting
   // joins wrong for a while as the run goes: building_2robots' robot2 was joined 160 m / 180 deg
   // off at t = 105 s on every seed (its map fits robot1's turned round where the robots had not
   // yet met); its twin one office along (robot1's map fits itself moved 8 m) now keeps that join
