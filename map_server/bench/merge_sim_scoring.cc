@@ -252,7 +252,7 @@ void ScoreMerge(const MergeEngine& engine, const RunTruth& known, const sim::Wor
           (true_i.inverse() * true_j).inverse() * (poses.at(id_i).inverse() * poses.at(id_j));
       near_t.push_back(diff.translation().norm());
       near_r.push_back(std::abs(NormalizeAngle(diff.rotation())));
-      result->near_pairs_off += near_t.back() > false_translation || near_r.back() > false_rotation;
+      result->near_pairs_off += IsFalseMerge(diff, false_translation, false_rotation);
     }
   }
   result->near_pairs = static_cast<int>(near_t.size());
