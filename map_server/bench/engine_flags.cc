@@ -85,11 +85,14 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app->add_option("--join-review-growth", options->join_review_growth,
-                  "merge engine: a join on the whole maps is judged again over the grown maps each "
+                  "merge engine: a join on matches alone is judged again over the grown maps each "
                   "time its component grows by this factor, and withdrawn when ambiguous then "
                   "(MergeEngineOptions::join_review_growth; 0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_flag("!--no-submap-match-join-review", options->review_submap_match_joins,
+                "merge engine: judge again only joins on the whole maps, not those on submap "
+                "matches (MergeEngineOptions::review_submap_match_joins)");
   app->add_option("--whole-map-symmetries", options->whole_map_symmetry_max_examined,
                   "merge engine: a join on matches alone also waits on its twins under moves that "
                   "fit either map onto itself; this many such moves are looked for, best first "

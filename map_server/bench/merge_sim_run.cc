@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <random>
 
 #include "map_server/bench/merge_sim_diagnosis.h"
@@ -96,8 +97,14 @@ class SimRun {
   std::vector<NodeId> arrival_;              // first arrival order, for a rebuild
   std::vector<RobotDetection> all_detections_;
   // Per robot pair (PairErrors' order): when the merge as fed first placed it beyond the
-  // false-merge thresholds (simulated seconds), and how far off.
-  std::map<size_t, std::pair<double, Rigid2d>> false_as_fed_;
+  // false-merge thresholds (simulated seconds), how far off, and when it last stopped being so
+  // (none while it is).
+  struct FalseJoin {
+    double from = 0.0;
+    Rigid2d off;
+    std::optional<double> until;
+  };
+  std::map<size_t, FalseJoin> false_as_fed_;
 };
 
 bool SimRun::Start(std::string* error) {
@@ -240,8 +247,16 @@ void SimRun::Feed(bool last) {
 void SimRun::NoteFalseJoins() {
   const std::vector<std::optional<Rigid2d>> errors = PairErrors(engine_, truth_);
   for (size_t k = 0; k < errors.size(); ++k) {
-    if (errors[k] && IsFalseMerge(*errors[k], options_.false_translation, options_.false_rotation))
-      false_as_fed_.emplace(k, std::make_pair(result_->sim_seconds, *errors[k]));
+    const bool wrong =
+        errors[k] && IsFalseMerge(*errors[k], options_.false_translation, options_.false_rotation);
+    const auto it = false_as_fed_.find(k);
+    if (wrong && it == false_as_fed_.end()) {
+      false_as_fed_.emplace(k, FalseJoin{result_->sim_seconds, *errors[k], std::nullopt});
+    } else if (wrong) {
+      it->second.until.reset();
+    } else if (it != false_as_fed_.end() && !it->second.until) {
+      it->second.until = result_->sim_seconds;
+    }
   }
 }
 
@@ -333,11 +348,14 @@ bool SimRun::Score(std::string* error) {
       for (size_t b = a + 1; b < n_; ++b, ++k) {
         const auto it = false_as_fed_.find(k);
         if (it == false_as_fed_.end()) continue;
-        const auto& [t, off] = it->second;
-        char text[160];
-        std::snprintf(text, sizeof(text), "; %s-%s from t=%.0f s (%.2f m, %.1f deg off)",
-                      infos_[a].name.c_str(), infos_[b].name.c_str(), t, off.translation().norm(),
-                      std::abs(NormalizeAngle(off.rotation())) * 180.0 / M_PI);
+        const FalseJoin& f = it->second;
+        char until[40] = "to the end";
+        if (f.until) std::snprintf(until, sizeof(until), "until t=%.0f s", *f.until);
+        char text[200];
+        std::snprintf(text, sizeof(text), "; %s-%s from t=%.0f s %s (%.2f m, %.1f deg off)",
+                      infos_[a].name.c_str(), infos_[b].name.c_str(), f.from, until,
+                      f.off.translation().norm(),
+                      std::abs(NormalizeAngle(f.off.rotation())) * 180.0 / M_PI);
         line += text;
       }
     }

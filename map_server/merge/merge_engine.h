@@ -165,8 +165,10 @@ class MergeEngine {
   // `max_refuted`: most alternatives the walls may rule out (MaxRefuted: per kind of join).
   WholeMapVerdict WholeMapAmbiguity(const std::string& root_a, const std::string& root_b,
                                     const Rigid2d& b_in_a, int max_refuted);
+  // `consistent_competes`: whether an alignment scoring less over all of b's points, but as
+  // consistent where it overlaps a's map, competes with the join (twins always do).
   WholeMapVerdict SearchWholeMaps(const Part& part_a, const Part& part_b, const Rigid2d& b_in_a,
-                                  int max_refuted) const;
+                                  int max_refuted, bool consistent_competes = true) const;
   int MaxRefuted(const Hypothesis& h) const;
   // Where the robots of a part drove (scan positions, its component's frame).
   std::vector<Eigen::Vector2d> TrailPositions(const Part& members) const;

@@ -78,8 +78,8 @@ MergeEngine::WholeMapVerdict MergeEngine::WholeMapAmbiguity(const std::string& r
 }
 
 MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, const Part& part_b,
-                                                          const Rigid2d& b_in_a,
-                                                          int max_refuted) const {
+                                                          const Rigid2d& b_in_a, int max_refuted,
+                                                          bool consistent_competes) const {
   const double resolution = options_.whole_map_resolution;
   const MatchTargetOptions match_options = WholeMapMatchOptions();
   const OccupancyGrid map_a = RenderPart(part_a, resolution);
@@ -160,7 +160,7 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
   std::optional<MatchTarget> unseen_neutral;
   std::optional<PeakSearch> consistent_alternatives;
   const double u = options_.whole_map_unseen_score;
-  if (u > 0.0 && ratio * at_candidate.overlap_score > u) {
+  if (consistent_competes && u > 0.0 && ratio * at_candidate.overlap_score > u) {
     MatchTargetOptions neutral = match_options;
     neutral.grid.unknown_score = static_cast<float>(u);
     unseen_neutral.emplace(map_a, neutral);
@@ -243,7 +243,8 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
     if (!other) return verdict;
     const MatchResult at_other = target.Evaluate(source, other->pose, options_.cross_gates);
     const bool explains_as_much = at_other.score >= ratio * at_candidate.score;
-    const bool as_consistent = at_other.overlap >= min_overlap * at_candidate.overlap &&
+    const bool as_consistent = consistent_competes &&
+                               at_other.overlap >= min_overlap * at_candidate.overlap &&
                                at_other.overlap_score >= ratio * at_candidate.overlap_score;
     // A twin competes whatever its overlap: where the maps look alike moved, agreeing over
     // more of them is no evidence.

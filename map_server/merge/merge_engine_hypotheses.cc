@@ -196,11 +196,12 @@ double MergeEngine::ShareOnPart(const std::string& robot, int64_t id,
 void MergeEngine::Accept(const Hypothesis& h, const std::vector<RelativeEdge>& extra, MergeUpdate* update) {
   const std::vector<std::string> joined =
       JoinComponents(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
-  // A join on the whole maps is judged again as they grow (merge_engine_join_review.cc).
+  // A join on matches alone is judged again as the maps grow (merge_engine_join_review.cc).
   const int submaps = FinishedSubmaps(Root(h.robot_a));
   for (const std::string& m : joined) {
     RobotState& state = *robots_.at(m);
     state.joined_on_whole_maps = h.whole_maps && !h.detection;
+    state.joined_on_submap_matches = !h.whole_maps && !h.detection;
     state.join_reviewed_at = submaps;
   }
   // The joined robots' maps move into the part's frame now: what is matched against the part

@@ -77,6 +77,12 @@ struct MergeEngineOptions {
   // robot3 was joined 48.9 m / 180 deg off on 2 of 4 seeds by whole-map matches, and waits with
   // the review (docs/BENCHMARKS.md, issue 8, session 36).
   double join_review_growth = 1.25;
+  // Joins on submap matches (two agreeing, nothing else explaining the whole maps as well when
+  // accepted) are judged so too, but only against alignments explaining nearly as much of the
+  // joined robot's map (whole_map_ambiguity of the join's score) and the maps' twins: over the
+  // grown maps a short corridor turned round about itself fits as consistently where it
+  // overlaps, a fifth of the map, and that withdrew a true east_end join (session 42).
+  bool review_submap_match_joins = true;
   double detection_sigma_floor = 0.1;
 
   // A join on matches alone (no detection among its evidence) is accepted only when nothing else

@@ -79,10 +79,11 @@ class JoinReviewTest : public ::testing::Test {
     b_ = {"b", b_path, Rigid2d(b_path.front().translation(), -1.1)};
   }
 
-  MergeEngineOptions Options(double join_review_growth) const {
+  // `on_whole_maps`: only the whole maps place robots; else only submap matches do.
+  MergeEngineOptions Options(double join_review_growth, bool on_whole_maps = true) const {
     MergeEngineOptions options;
-    options.max_global_searches_per_update = 0;  // only the whole maps place robots
-    options.whole_map_matches = true;
+    if (on_whole_maps) options.max_global_searches_per_update = 0;
+    options.whole_map_matches = on_whole_maps;
     options.join_review_growth = join_review_growth;
     // The maps' own symmetries keep the turned join waiting from the start (session 42); these
     // tests are about what becomes of it once made.
@@ -107,6 +108,37 @@ class JoinReviewTest : public ::testing::Test {
     return (TrueRelative(a_, b_).inverse() * *rel).translation().norm();
   }
 
+  // b is joined turned round; once a has mapped the office too, the join is withdrawn, and b
+  // is placed true or left waiting.
+  void ExpectWithdrawn(const MergeEngineOptions& options) const {
+    MergeEngine engine(options);
+    const double joined_off = FeedFirstStage(&engine);
+    ASSERT_GT(joined_off, 1.0) << "b was not joined turned round: the case is not the one meant";
+    FeedSecondStage(&engine);
+    EXPECT_GE(UpdateUntilSettled(&engine, AlignmentEventType::kWithdrawn), 1);
+    if (const auto rel = EstimatedRelative(engine, "a", "b")) {
+      const Rigid2d error = TrueRelative(a_, b_).inverse() * *rel;
+      EXPECT_LT(error.translation().norm(), 0.05) << "b is still joined off the truth";
+    }
+  }
+
+  // The same with the review off: the wrong join stays (so ExpectWithdrawn can fail).
+  void ExpectWrongJoinStays(const MergeEngineOptions& options) const {
+    MergeEngine engine(options);
+    ASSERT_GT(FeedFirstStage(&engine), 1.0);
+    FeedSecondStage(&engine);
+    EXPECT_EQ(UpdateUntilSettled(&engine, AlignmentEventType::kWithdrawn), 0);
+    const auto rel = EstimatedRelative(engine, "a", "b");
+    ASSERT_TRUE(rel);
+    EXPECT_GT((TrueRelative(a_, b_).inverse() * *rel).translation().norm(), 1.0);
+  }
+
+  // The rest of a's tour: the office itself.
+  void FeedSecondStage(MergeEngine* engine) const {
+    const std::vector<Submap> a = AllSubmapsOfA();
+    FeedSubmaps(a, twin_submaps_, a.size(), engine);
+  }
+
   std::vector<Submap> AllSubmapsOfA() const {
     return testing::MakeSubmaps("a", world_, a_.path, a_.local_in_world, kScansPerSubmap,
                                 merge_fixtures::kDt);
@@ -118,28 +150,19 @@ class JoinReviewTest : public ::testing::Test {
 };
 
 TEST_F(JoinReviewTest, AJoinTheGrownMapsExplainAsWellElsewhereIsWithdrawn) {
-  MergeEngine engine(Options(1.25));
-  const double joined_off = FeedFirstStage(&engine);
-  ASSERT_GT(joined_off, 1.0) << "b was not joined turned round: the case is not the one meant";
-  const std::vector<Submap> a = AllSubmapsOfA();
-  FeedSubmaps(a, twin_submaps_, a.size(), &engine);
-  const int withdrawn = UpdateUntilSettled(&engine, AlignmentEventType::kWithdrawn);
-  EXPECT_GE(withdrawn, 1);
-  if (const auto rel = EstimatedRelative(engine, "a", "b")) {
-    const Rigid2d error = TrueRelative(a_, b_).inverse() * *rel;
-    EXPECT_LT(error.translation().norm(), 0.05) << "b is still joined off the truth";
-  }
+  ExpectWithdrawn(Options(1.25));
 }
 
-TEST_F(JoinReviewTest, WithoutReviewsTheWrongJoinStays) {
-  MergeEngine engine(Options(0.0));
-  ASSERT_GT(FeedFirstStage(&engine), 1.0);
-  const std::vector<Submap> a = AllSubmapsOfA();
-  FeedSubmaps(a, twin_submaps_, a.size(), &engine);
-  EXPECT_EQ(UpdateUntilSettled(&engine, AlignmentEventType::kWithdrawn), 0);
-  const auto rel = EstimatedRelative(engine, "a", "b");
-  ASSERT_TRUE(rel);
-  EXPECT_GT((TrueRelative(a_, b_).inverse() * *rel).translation().norm(), 1.0);
+TEST_F(JoinReviewTest, WithoutReviewsTheWrongJoinStays) { ExpectWrongJoinStays(Options(0.0)); }
+
+TEST_F(JoinReviewTest, AJoinOnSubmapMatchesTheGrownMapsExplainAsWellElsewhereIsWithdrawn) {
+  ExpectWithdrawn(Options(1.25, /*on_whole_maps=*/false));
+}
+
+TEST_F(JoinReviewTest, WithoutReviewsOfSubmapMatchJoinsTheWrongJoinStays) {
+  MergeEngineOptions options = Options(1.25, /*on_whole_maps=*/false);
+  options.review_submap_match_joins = false;
+  ExpectWrongJoinStays(options);
 }
 
 }  // namespace
