@@ -342,7 +342,7 @@ MergeUpdate MergeEngine::Update() {
   RefreshCanvases(&update);
   ProcessDetections(&update);
   if (ReviewJoins(&update)) ProcessDetections(&update);  // the withdrawn robot's, again
-  if (ReviewWholeMapJoins(&update)) ProcessDetections(&update);
+  if (ReviewMatchOnlyJoins(&update)) ProcessDetections(&update);
   ReviewMatchHypotheses(&update);  // before new searches: a local check is cheap
   ProcessCrossMatches(&update);
   ProcessWholeMapMatches(&update);

@@ -145,9 +145,10 @@ class MergeEngine {
   void Withdraw(const std::string& robot, EvidenceKind evidence, const std::string& reason,
                 MergeUpdate* update);
   // merge_engine_join_review.cc
-  // Splits off the robot joined last on the whole maps whose map, judged again against the
-  // robots it joined now that the maps have grown, fits elsewhere as well; true if it did.
-  bool ReviewWholeMapJoins(MergeUpdate* update);
+  // Splits off the robot joined last on matches alone (no detection) whose map, judged again
+  // against the robots it joined now that the maps have grown, fits elsewhere as well; true if
+  // it did.
+  bool ReviewMatchOnlyJoins(MergeUpdate* update);
   // Detections between the robot and the other members of its component, judged at the
   // current poses.
   DetectionVotes VotesWithin(const std::string& robot) const;

@@ -27,7 +27,7 @@
 
 namespace fleetmap {
 
-bool MergeEngine::ReviewWholeMapJoins(MergeUpdate* update) {
+bool MergeEngine::ReviewMatchOnlyJoins(MergeUpdate* update) {
   if (!(options_.join_review_growth > 1.0) || !(options_.whole_map_ambiguity > 0.0)) return false;
   // The robot joined last among those due: a wrong join is more likely the newest.
   std::string robot;
