@@ -93,6 +93,12 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
   app->add_flag("!--no-submap-match-join-review", options->review_submap_match_joins,
                 "merge engine: judge again only joins on the whole maps, not those on submap "
                 "matches (MergeEngineOptions::review_submap_match_joins)");
+  app->add_option("--match-join-probation", options->match_join_probation_growth,
+                  "merge engine: a join on matches alone waits unpublished until both maps have "
+                  "grown by this factor, and is made if it passes again then "
+                  "(MergeEngineOptions::match_join_probation_growth; 0: made at once)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app->add_option("--whole-map-symmetries", options->whole_map_symmetry_max_examined,
                   "merge engine: a join on matches alone also waits on its twins under moves that "
                   "fit either map onto itself; this many such moves are looked for, best first "

@@ -343,6 +343,7 @@ MergeUpdate MergeEngine::Update() {
   ProcessDetections(&update);
   if (ReviewJoins(&update)) ProcessDetections(&update);  // the withdrawn robot's, again
   if (ReviewMatchOnlyJoins(&update)) ProcessDetections(&update);
+  JudgeHeldAlignments(&update);
   ReviewMatchHypotheses(&update);  // before new searches: a local check is cheap
   ProcessCrossMatches(&update);
   ProcessWholeMapMatches(&update);

@@ -50,6 +50,12 @@ class MergeEngine {
   bool SetKnownPlacement(const std::string& robot, const Rigid2d& local_in_global,
                          std::string* error = nullptr);
 
+  // Whether joins on matches alone wait on probation for the maps to grow
+  // (MergeEngineOptions::match_join_probation_growth; on when that is). Off, what is held is
+  // judged at the next Update() on the maps as they are. For when no growth would come to end
+  // the wait: a rebuild from everything stored, while it folds in; uploads that have settled.
+  void HoldMatchOnlyJoins(bool hold) { hold_match_only_joins_ = hold; }
+
   // Folds everything received since the last call into the graph and the map.
   MergeUpdate Update();
   // True while searches are waiting that the per-Update() work bounds postponed: call Update()
@@ -183,6 +189,19 @@ class MergeEngine {
   void ProcessWholeMapMatches(MergeUpdate* update);
   // merge_engine_loops.cc
   void PlanLoopClosures(std::vector<NearbySearch>* searches);
+  // merge_engine_probation.cc
+  // Whether `h`, a join passing every gate with `confirmed_by` (the edges it would be accepted
+  // with), must wait on probation first (noting it when it starts); false, with the probation
+  // added to its reason, when it is over or not needed.
+  bool HeldOnProbation(Hypothesis* h, const std::vector<RelativeEdge>& confirmed_by,
+                       MergeUpdate* update);
+  // Whether `h` agrees with an alignment on probation the maps have not yet grown enough to end.
+  bool ProbationRunning(const Hypothesis& h) const;
+  // With HoldMatchOnlyJoins(false): each alignment held is judged again now over the whole
+  // maps, and accepted with the evidence that confirmed it if it passes.
+  void JudgeHeldAlignments(MergeUpdate* update);
+  // Whether a and b put b's part at the same place in a's (both between the same two parts).
+  bool SameAlignment(const Hypothesis& a, const Hypothesis& b) const;
   void Consider(Hypothesis hypothesis, MergeUpdate* update);
   bool Verify(const Hypothesis& hypothesis, std::vector<RelativeEdge>* edges);
   // Pending submap-match hypotheses checked again once the maps have grown.
@@ -253,6 +272,9 @@ class MergeEngine {
   // detection often reaches the server before the submaps that show the meeting).
   std::map<size_t, int> retry_detections_;
   std::vector<Hypothesis> hypotheses_;
+  // Match-only alignments on probation, each with when it started (Hypothesis::probation_from).
+  std::vector<Hypothesis> probation_;
+  bool hold_match_only_joins_ = true;  // HoldMatchOnlyJoins()
   int64_t joins_ = 0;
   bool review_joins_ = false;  // a detection contradicted its robots' joined map
   std::map<std::string, CachedTarget> targets_;

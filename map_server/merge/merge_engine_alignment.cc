@@ -182,6 +182,10 @@ bool MergeEngine::Agree(const Hypothesis& a, const Hypothesis& b) const {
   if ((!a.detection || !b.detection) && (matched(a, b.edge.from) || matched(b, a.edge.from))) {
     return false;
   }
+  return SameAlignment(a, b);
+}
+
+bool MergeEngine::SameAlignment(const Hypothesis& a, const Hypothesis& b) const {
   const std::string ra = Root(a.robot_a), rb = Root(a.robot_b);
   Rigid2d fb = FrameTransform(b);
   if (Root(b.robot_a) == rb && Root(b.robot_b) == ra) {

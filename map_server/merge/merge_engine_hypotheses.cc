@@ -60,6 +60,10 @@ void MergeEngine::Consider(Hypothesis h, MergeUpdate* update) {
         return;
       }
       if (!whole.note.empty()) h.event.reason += "; " + whole.note;
+      if (HeldOnProbation(&h, {it->edge}, update)) {
+        hypotheses_.push_back(std::move(h));
+        return;
+      }
     }
     const Hypothesis other = *it;
     hypotheses_.erase(it);
@@ -84,7 +88,11 @@ void MergeEngine::Consider(Hypothesis h, MergeUpdate* update) {
       if (!whole.ambiguity) {
         h.event.reason += "; confirmed by matching another submap of " + h.robot_b;
         if (!whole.note.empty()) h.event.reason += "; " + whole.note;
-        Accept(h, edges, update);
+        if (!HeldOnProbation(&h, edges, update)) {
+          Accept(h, edges, update);
+          return;
+        }
+        hypotheses_.push_back(std::move(h));
         return;
       }
       h.event.reason +=
@@ -198,6 +206,11 @@ void MergeEngine::Accept(const Hypothesis& h, const std::vector<RelativeEdge>& e
       JoinComponents(Root(h.robot_a), Root(h.robot_b), FrameTransform(h));
   // A join on matches alone is judged again as the maps grow (merge_engine_join_review.cc).
   const int submaps = FinishedSubmaps(Root(h.robot_a));
+  // Alignments on probation between what is now one part are settled.
+  probation_.erase(
+      std::remove_if(probation_.begin(), probation_.end(),
+                     [&](const Hypothesis& p) { return Root(p.robot_a) == Root(p.robot_b); }),
+      probation_.end());
   for (const std::string& m : joined) {
     RobotState& state = *robots_.at(m);
     state.joined_on_whole_maps = h.whole_maps && !h.detection;
@@ -341,6 +354,7 @@ void MergeEngine::ReviewMatchHypotheses(MergeUpdate* update) {
       if (it->detection || root_a == root_b) continue;
       const int submaps = FinishedSubmaps(root_a) + FinishedSubmaps(root_b);
       if (submaps < it->reviewed_at_submaps + options_.review_min_new_submaps) continue;
+      if (ProbationRunning(*it)) continue;  // judged again when the maps have grown enough
       if (next == hypotheses_.end() || it->reviewed_at_submaps < next->reviewed_at_submaps) {
         next = it;
         next_submaps = submaps;
@@ -354,11 +368,12 @@ void MergeEngine::ReviewMatchHypotheses(MergeUpdate* update) {
     const WholeMapVerdict whole =
         WholeMapAmbiguity(root_a, root_b, FrameTransform(*next), MaxRefuted(*next));
     if (whole.ambiguity) continue;
-    Hypothesis h = std::move(*next);
-    hypotheses_.erase(next);
+    Hypothesis h = *next;
     h.event.reason += "; confirmed later by matching another submap of " + h.robot_b +
                       ", nothing as good over the whole maps";
     if (!whole.note.empty()) h.event.reason += " (" + whole.note + ")";
+    if (HeldOnProbation(&h, edges, update)) continue;
+    hypotheses_.erase(next);
     Accept(h, edges, update);
   }
 }

@@ -90,6 +90,8 @@ bool MergeEngine::HasPendingWork() const {
       return true;
     }
   }
+  // Alignments held on probation, to be judged now (HoldMatchOnlyJoins(false)).
+  if (!hold_match_only_joins_ && !probation_.empty()) return true;
   return !WholeMapMatchesDue().empty();
 }
 

@@ -83,6 +83,14 @@ struct MergeEngineOptions {
   // grown maps a short corridor turned round about itself fits as consistently where it
   // overlaps, a fifth of the map, and that withdrew a true east_end join (session 42).
   bool review_submap_match_joins = true;
+  // A join on matches alone that passes every gate is first held on probation, unpublished,
+  // until both parts together hold match_join_probation_growth times the finished submaps they
+  // held when it first passed; it is accepted if it passes again then
+  // (merge_engine_probation.cc). The review above withdraws a wrong join once the maps have
+  // grown, but every version until then showed it (session 43: 5 pairs wrong for 5-35 s). A
+  // rebuild from everything stored folds in without it, and once uploads settle what is held
+  // is judged on the maps as they are (MergeEngine::HoldMatchOnlyJoins). 0 turns it off.
+  double match_join_probation_growth = 1.25;
   double detection_sigma_floor = 0.1;
 
   // A join on matches alone (no detection among its evidence) is accepted only when nothing else

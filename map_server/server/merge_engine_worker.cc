@@ -242,6 +242,8 @@ void MergeEngineWorker::RunEngine() {
 
 void MergeEngineWorker::Rebuild(const std::string& trigger) {
   engine_ = std::make_unique<MergeEngine>(options_.engine);
+  // Everything stored is folded in at once: no growth would come to end a probation.
+  engine_->HoldMatchOnlyJoins(false);
   robots_.clear();
   trajectory_revisions_.clear();
   submap_revisions_.clear();
@@ -274,6 +276,7 @@ void MergeEngineWorker::Rebuild(const std::string& trigger) {
     RunEngine();
     if (!engine_->HasPendingWork()) break;
   }
+  engine_->HoldMatchOnlyJoins(true);
   trigger_ = trigger;
   // After a restart a new version is needed only when the stored one is stale.
   const bool stale = !restored_ || restored_->covered_submap_seq < covered_seq_ ||
@@ -286,6 +289,11 @@ void MergeEngineWorker::Rebuild(const std::string& trigger) {
 void MergeEngineWorker::Settle() {
   settled_ = true;
   const auto start = std::chrono::steady_clock::now();
+  // Nothing more is coming to end a probation by growth: joins held on it are judged on the
+  // maps as they are, as the rebuild below judges them.
+  engine_->HoldMatchOnlyJoins(false);
+  for (int pass = 0; pass < 10000 && !stopping_ && engine_->HasPendingWork(); ++pass) RunEngine();
+  engine_->HoldMatchOnlyJoins(true);
   // What to fall back to.
   std::unique_ptr<MergeEngine> engine = std::move(engine_);
   const size_t placed_before = engine->PlacedRobots().size();

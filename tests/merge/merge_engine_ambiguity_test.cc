@@ -77,7 +77,7 @@ std::pair<SimRobot, SimRobot> CrateRobots() {
 std::unique_ptr<MergeEngine> FedEngine(
     double whole_map_ambiguity, SimRobot* a, SimRobot* b, bool crates = false,
     int min_contradictions = MergeEngineOptions().whole_map_min_contradictions) {
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.max_global_searches_per_update = 100;
   options.whole_map_ambiguity = whole_map_ambiguity;
   options.whole_map_min_contradictions = min_contradictions;
@@ -164,7 +164,7 @@ std::unique_ptr<MergeEngine> UnlikeTwinsEngine(int min_contradictions, SimRobot*
   const std::vector<Rigid2d> a_path = Turned(tour);
   *a = SimRobot{"a", a_path, Rigid2d(a_path.front().translation(), 0.4)};
   *b = SimRobot{"b", tour, Rigid2d(tour.front().translation(), -1.1)};
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.max_global_searches_per_update = 100;
   options.whole_map_min_contradictions = min_contradictions;
   auto engine = std::make_unique<MergeEngine>(options);
@@ -224,7 +224,7 @@ std::unique_ptr<MergeEngine> TwinOfTheJoinEngine(MergeEngineOptions options, Sim
 
 // The search for alternatives by score alone, without the maps' symmetries.
 MergeEngineOptions SearchByScore() {
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.whole_map_symmetry_max_examined = 0;
   options.whole_map_unseen_score = 0.0;
   return options;
@@ -295,7 +295,7 @@ std::unique_ptr<MergeEngine> BodiesEngine(double body_radius, SimRobot* a, SimRo
         Eigen::Vector2d(3.5, 7.7), Eigen::Vector2d(10.55, 8.2)}) {
     testing::AddBox(body - Eigen::Vector2d(0.2, 0.2), body + Eigen::Vector2d(0.2, 0.2), &seen_by_a);
   }
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.max_global_searches_per_update = 100;
   options.whole_map_body_radius = body_radius;
   auto engine = std::make_unique<MergeEngine>(options);

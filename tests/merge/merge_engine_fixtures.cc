@@ -49,8 +49,14 @@ int Count(const MergeUpdate& u, AlignmentEventType type) {
   return n;
 }
 
-MergeEngineOptions TestOptions() {
+MergeEngineOptions GateOptions() {
   MergeEngineOptions options;
+  options.match_join_probation_growth = 0.0;
+  return options;
+}
+
+MergeEngineOptions TestOptions() {
+  MergeEngineOptions options = GateOptions();
   options.max_global_searches_per_update = 0;
   options.whole_map_matches = false;  // a global search too
   return options;
@@ -67,7 +73,7 @@ std::pair<SimRobot, SimRobot> FeedCorridorApproach(MergeEngine* engine) {
 }
 
 std::unique_ptr<MergeEngine> OverlappingRobotsWithSearches(const SimRobot& a, const SimRobot& b) {
-  MergeEngineOptions options;
+  MergeEngineOptions options = GateOptions();
   options.max_global_searches_per_update = 100;
   auto engine = std::make_unique<MergeEngine>(options);
   const testing::SegmentWorld world = testing::OfficeWorld();

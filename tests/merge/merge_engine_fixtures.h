@@ -37,6 +37,12 @@ Rigid2d TrueRelative(const SimRobot& a, const SimRobot& b);
 std::optional<Rigid2d> EstimatedRelative(const MergeEngine& engine, const std::string& a, const std::string& b);
 
 int Count(const MergeUpdate& u, AlignmentEventType type);
+// Default options, but a join on matches alone is made as soon as it passes every gate. The
+// tests here judge those gates, mostly on maps fed at once, where no growth would end a
+// probation (MergeEngineOptions::match_join_probation_growth, tested on its own in
+// merge_engine_verify_test.cc and merge_engine_join_review_test.cc); and a test that a join is
+// not made must not pass because the join is only held.
+MergeEngineOptions GateOptions();
 // Detections only (no global searches) unless a test wants more.
 MergeEngineOptions TestOptions();
 

@@ -1,6 +1,7 @@
 // Joins on matches alone judged again as the maps grow (MergeEngineOptions::join_review_growth):
 // a join that was unambiguous when made, and that the grown maps explain as well elsewhere, is
-// withdrawn.
+// withdrawn. And judged so before they are made (match_join_probation_growth): held on
+// probation, such a join is never made.
 
 #include <gtest/gtest.h>
 
@@ -27,13 +28,19 @@ void FeedSubmaps(const std::vector<Submap>& submaps, size_t from, size_t to, Mer
   }
 }
 
-int UpdateUntilSettled(MergeEngine* engine, AlignmentEventType counted) {
+// The events of type `counted` (whose reason holds `reason`) over the updates.
+int UpdateUntilSettled(MergeEngine* engine, AlignmentEventType counted,
+                       const std::string& reason = "") {
   int n = 0;
   for (int i = 0; i == 0 || (i < 20 && engine->HasPendingWork()); ++i) {
-    for (const AlignmentEvent& e : engine->Update().events) n += e.type == counted;
+    for (const AlignmentEvent& e : engine->Update().events) {
+      n += e.type == counted && e.reason.find(reason) != std::string::npos;
+    }
   }
   return n;
 }
+
+constexpr char kOnProbation[] = "on probation until";
 
 // The twin offices (the office and beside it the office turned half round). Robot a first tours
 // the turned office, then the office; b tours the office only. Before a reaches the office, b's
@@ -81,7 +88,7 @@ class JoinReviewTest : public ::testing::Test {
 
   // `on_whole_maps`: only the whole maps place robots; else only submap matches do.
   MergeEngineOptions Options(double join_review_growth, bool on_whole_maps = true) const {
-    MergeEngineOptions options;
+    MergeEngineOptions options = merge_fixtures::GateOptions();
     if (on_whole_maps) options.max_global_searches_per_update = 0;
     options.whole_map_matches = on_whole_maps;
     options.join_review_growth = join_review_growth;
@@ -92,8 +99,8 @@ class JoinReviewTest : public ::testing::Test {
   }
 
   // Feeds b and the turned-office half of a's tour; returns how far b was joined from the truth
-  // (metres), or a negative number when it was not joined.
-  double FeedFirstStage(MergeEngine* engine) const {
+  // (metres), or a negative number when it was not joined. `held`: alignments put on probation.
+  double FeedFirstStage(MergeEngine* engine, int* held = nullptr) const {
     const auto b = testing::MakeSubmaps("b", world_, b_.path, b_.local_in_world, kScansPerSubmap,
                                         merge_fixtures::kDt);
     FeedSubmaps(b, 0, b.size(), engine);
@@ -102,8 +109,15 @@ class JoinReviewTest : public ::testing::Test {
     FeedSubmaps(AllSubmapsOfA(), 0, twin_submaps_, engine);
     EXPECT_TRUE(engine->SetTrajectory(
         "a", testing::MakeTrajectory(a_.path, a_.local_in_world, merge_fixtures::kDt)));
-    UpdateUntilSettled(engine, AlignmentEventType::kAlignmentAccepted);
-    const auto rel = EstimatedRelative(*engine, "a", "b");
+    const int on_probation =
+        UpdateUntilSettled(engine, AlignmentEventType::kHypothesis, kOnProbation);
+    if (held) *held = on_probation;
+    return JoinedOff(*engine);
+  }
+
+  // How far b is joined from the truth (metres); negative when it is not joined.
+  double JoinedOff(const MergeEngine& engine) const {
+    const auto rel = EstimatedRelative(engine, "a", "b");
     if (!rel) return -1.0;
     return (TrueRelative(a_, b_).inverse() * *rel).translation().norm();
   }
@@ -163,6 +177,26 @@ TEST_F(JoinReviewTest, WithoutReviewsOfSubmapMatchJoinsTheWrongJoinStays) {
   MergeEngineOptions options = Options(1.25, /*on_whole_maps=*/false);
   options.review_submap_match_joins = false;
   ExpectWrongJoinStays(options);
+}
+
+// The turned join, held on probation, is judged again as robot a maps the office submap by submap:
+// it is never made (with the probation off it is, as above), and b ends placed true or waiting.
+TEST_F(JoinReviewTest, HeldOnProbationTheWrongJoinIsNeverMade) {
+  for (const bool on_whole_maps : {true, false}) {
+    SCOPED_TRACE(on_whole_maps ? "whole maps" : "submap matches");
+    MergeEngineOptions options = Options(1.25, on_whole_maps);
+    options.match_join_probation_growth = 1.25;
+    MergeEngine engine(options);
+    int held = 0;
+    EXPECT_LT(FeedFirstStage(&engine, &held), 0.0) << "joined before its probation ended";
+    EXPECT_GE(held, 1) << "nothing was held on probation: the case is not the one meant";
+    const std::vector<Submap> a = AllSubmapsOfA();
+    for (size_t i = twin_submaps_; i < a.size(); ++i) {
+      FeedSubmaps(a, i, i + 1, &engine);
+      UpdateUntilSettled(&engine, AlignmentEventType::kAlignmentAccepted);
+      EXPECT_LT(JoinedOff(engine), 0.05) << "b joined off the truth after a's submap " << i;
+    }
+  }
 }
 
 }  // namespace

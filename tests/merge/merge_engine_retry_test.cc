@@ -33,7 +33,7 @@ bool Searched(const std::vector<MergeUpdate>& updates, const std::string& robot,
 // room, which a never saw) when a's map arrives, then the rest of its tour through the middle
 // room into the right one. Returns the events of the updates after b's map has grown.
 std::vector<MergeUpdate> GrowAfterSearch(double cross_retry_growth) {
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.max_global_searches_per_update = 100;
   options.cross_retry_growth = cross_retry_growth;
   MergeEngine engine(options);

@@ -47,7 +47,7 @@ std::unique_ptr<MergeEngine> RoomsTurnedEngine(bool rule_out_higher, bool crates
                             {38, 6}},
                            0.25);
   *b = SimRobot{"b", b_path, Rigid2d(b_path.front().translation(), -1.1)};
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.max_global_searches_per_update = 100;
   options.whole_map_rule_out_higher = rule_out_higher;
   auto engine = std::make_unique<MergeEngine>(options);

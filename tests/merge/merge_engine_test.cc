@@ -83,7 +83,7 @@ TEST(MergeEngineTest, DetectionsAlignWhenTheSeenMapReachesPastTheObserver) {
 // Robots in a long featureless corridor: submap matching alone must not merge them.
 TEST(MergeEngineTest, CorridorDoesNotMergeWithoutDetection) {
   const testing::SegmentWorld world = testing::CorridorWorld();
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.max_global_searches_per_update = 100;
   MergeEngine engine(options);
   const SimRobot a{"a", testing::PathThrough({{3, 1}, {15, 1}}, 0.25), Rigid2d(3, 1, 0.0)};

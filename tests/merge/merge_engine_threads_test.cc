@@ -59,7 +59,7 @@ FleetRun Fleet(int threads) {
 // Three robots and no detections: every new submap is searched over the other parts' whole
 // maps (up to 4 per update), and joins happen between those searches.
 FleetRun Searching(int threads) {
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.search_threads = threads;
   FleetRun run{std::make_unique<MergeEngine>(options), {}};
   const testing::SegmentWorld world = testing::OfficeWorld();
@@ -133,7 +133,7 @@ TEST(MergeEngineThreadsTest, GlobalSearchesAndJoinsDoNotDependOnTheThreadCount) 
 // middle rooms: c overlaps d only, and e overlaps d only. The robots are searched in name order.
 // The events of each update end with a marker, so that they must also fall in the same update.
 FleetRun ThreeRooms(int threads, bool ahead) {
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.search_threads = threads;
   options.max_global_searches_per_update = 100;
   options.search_ahead = ahead;

@@ -26,7 +26,7 @@ bool Confirmed(const MergeUpdate& update, const std::string& how) {
 // One global search per Update(): a single match cannot meet a second one in the same update.
 std::unique_ptr<MergeEngine> OneSearchPerUpdate(bool verify_matches, const SimRobot& a,
                                                 const SimRobot& b) {
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.max_global_searches_per_update = 1;
   options.verify_matches = verify_matches;
   auto engine = std::make_unique<MergeEngine>(options);
@@ -64,7 +64,7 @@ TEST(MergeEngineVerifyTest, AWaitingMatchIsCheckedAgainWhenTheMapsGrow) {
   SimRobot a_start = a, b_start = b;
   a_start.path.resize(10);  // one submap each
   b_start.path.resize(10);
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.max_global_searches_per_update = 100;
   MergeEngine engine(options);
   Feed(testing::OfficeWorld(), a_start, &engine);
@@ -81,6 +81,64 @@ TEST(MergeEngineVerifyTest, AWaitingMatchIsCheckedAgainWhenTheMapsGrow) {
   EXPECT_THAT(*rel, IsNearPose(TrueRelative(a, b), 0.03, 0.3 * M_PI / 180));
 }
 
+// A true join on matches alone waits on probation, unpublished, and is made once both maps
+// hold match_join_probation_growth times the finished submaps they held then, and it passes again.
+class MergeEngineProbationTest : public ::testing::Test {
+ protected:
+  // Three submaps of each robot: their true join passes every gate and is held on probation.
+  void SetUp() override {
+    SimRobot a_start = a_, b_start = b_;
+    a_start.path.resize(30);
+    b_start.path.resize(30);
+    MergeEngineOptions options = GateOptions();
+    options.max_global_searches_per_update = 100;
+    options.match_join_probation_growth = 1.25;
+    engine_ = std::make_unique<MergeEngine>(options);
+    Feed(testing::OfficeWorld(), a_start, engine_.get());
+    Feed(testing::OfficeWorld(), b_start, engine_.get());
+    int held = 0;
+    for (const AlignmentEvent& e : engine_->Update().events) {
+      EXPECT_NE(e.type, AlignmentEventType::kAlignmentAccepted) << e.reason;
+      held += e.type == AlignmentEventType::kHypothesis &&
+              e.reason.find("on probation until") != std::string::npos;
+    }
+    ASSERT_GE(held, 1) << "nothing was held on probation: the case these tests are about";
+    EXPECT_FALSE(EstimatedRelative(*engine_, "a", "b"));
+  }
+
+  void ExpectJoinedTrue() const {
+    const auto rel = EstimatedRelative(*engine_, "a", "b");
+    ASSERT_TRUE(rel);
+    EXPECT_THAT(*rel, IsNearPose(TrueRelative(a_, b_), 0.03, 0.3 * M_PI / 180));
+  }
+
+  const SimRobot a_ = RobotA(), b_ = RobotB(-2.4);
+  std::unique_ptr<MergeEngine> engine_;
+};
+
+TEST_F(MergeEngineProbationTest, AJoinOnProbationIsMadeOnceTheMapsHaveGrownAndItPassesAgain) {
+  const SimRobot& a = a_;
+  const SimRobot& b = b_;
+  MergeEngine& engine = *engine_;
+  // Without growth it stays held.
+  for (const AlignmentEvent& e : engine.Update().events) {
+    EXPECT_NE(e.type, AlignmentEventType::kAlignmentAccepted) << e.reason;
+  }
+  Feed(testing::OfficeWorld(), a, &engine);
+  Feed(testing::OfficeWorld(), b, &engine);
+  EXPECT_TRUE(Confirmed(engine.Update(), "passed again after probation"));
+  ExpectJoinedTrue();
+}
+
+// Once uploads settle no growth will end the probation: what is held is judged on the maps as
+// they are (as the server's settled rebuild would judge them), and made.
+TEST_F(MergeEngineProbationTest, AJoinHeldWhenUploadsSettleIsJudgedOnTheMapsAsTheyAre) {
+  engine_->HoldMatchOnlyJoins(false);
+  EXPECT_TRUE(engine_->HasPendingWork());
+  EXPECT_TRUE(Confirmed(engine_->Update(), "judged again on the maps as they are"));
+  ExpectJoinedTrue();
+}
+
 // Two like offices far apart, a robot turning on the spot in each: each robot's submaps match the
 // other's office, and only the whole building could tell them apart. A second submap of the same
 // walls is the same evidence again: it must not confirm the match.
@@ -95,7 +153,7 @@ TEST(MergeEngineVerifyTest, ASubmapOfTheSameWallsDoesNotConfirmAMatch) {
   SimRobot b{"b", {}, apart * Rigid2d(10, 6, -1.2)};
   for (const Rigid2d& p : tour) b.path.push_back(apart * p);
   for (const double max_seen_before : {0.5, 1.0}) {
-    MergeEngineOptions options;
+    MergeEngineOptions options = merge_fixtures::GateOptions();
     options.max_global_searches_per_update = 1;
     options.verify_max_seen_before = max_seen_before;
     // Since session 31 the whole-map check keeps this join waiting by itself too (it counts

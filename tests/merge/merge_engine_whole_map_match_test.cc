@@ -18,7 +18,7 @@ using merge_fixtures::TrueRelative;
 // No submap is searched on its own (as when every one is ambiguous, like the building's plain
 // corridors): only the whole maps can place the robots.
 MergeEngineOptions WholeMapsOnly(bool whole_map_matches) {
-  MergeEngineOptions options;
+  MergeEngineOptions options = merge_fixtures::GateOptions();
   options.max_global_searches_per_update = 0;
   options.whole_map_matches = whole_map_matches;
   return options;

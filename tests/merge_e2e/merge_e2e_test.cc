@@ -278,7 +278,10 @@ class MergeE2eTest : public ::testing::Test {
       ASSERT_TRUE(code.has_value()) << "agent did not finish\n" << Logs();
       EXPECT_EQ(*code, 0) << Logs();
     }
-    ASSERT_TRUE(WaitAllPlaced(60.0, robots)) << robots->DebugString() << Logs();
+    // The settled rebuild comes once the engine as fed has nothing pending; with robots held
+    // waiting (a join on matches alone on probation at the end of building_2robots) it keeps
+    // searching, and under the suite's load that took 59 s of 60 (session 44).
+    ASSERT_TRUE(WaitAllPlaced(120.0, robots)) << robots->DebugString() << Logs();
   }
 
   // Server + one agent per robot at full speed; every robot placed and the merge within bounds.

@@ -81,6 +81,10 @@ struct MergeEngine::Hypothesis {
   std::optional<DetectionEdge> detection_edge;
   AlignmentEvent event;
   int reviewed_at_submaps = 0;  // finished submaps in both parts when last checked
+  // On probation (MergeEngine::probation_): finished submaps in both parts when it began, and
+  // the edges that confirmed the alignment then.
+  int probation_from = 0;
+  std::vector<RelativeEdge> confirmed_by;
 };
 
 struct MergeEngine::CachedSubmapTarget {
