@@ -68,6 +68,12 @@ void MergeEngine::JudgeHeldAlignments(MergeUpdate* update) {
   probation_.clear();
   for (Hypothesis h : held) {
     if (Root(h.robot_a) == Root(h.robot_b)) continue;
+    // Detections received since may contradict it, as Consider asks of a new match.
+    const DetectionVotes votes = DetectionsAbout(h);
+    if (votes.contradicting >= options_.min_contradicting_detections &&
+        votes.contradicting > votes.agreeing) {
+      continue;
+    }
     // The evidence that confirmed it stands; the whole maps may have changed since.
     const WholeMapVerdict whole =
         WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h), MaxRefuted(h));
