@@ -190,6 +190,8 @@ class MergeEngine {
   // merge_engine_loops.cc
   void PlanLoopClosures(std::vector<NearbySearch>* searches);
   // merge_engine_probation.cc
+  // Whether a join like `h` waits on probation at all: on matches alone, while held.
+  bool ProbationApplies(const Hypothesis& h) const;
   // Whether `h`, a join passing every gate with `confirmed_by` (the edges it would be accepted
   // with), must wait on probation first (noting it when it starts); false, with the probation
   // added to its reason, when it is over or not needed.

@@ -213,8 +213,9 @@ void MergeEngine::Accept(const Hypothesis& h, const std::vector<RelativeEdge>& e
       probation_.end());
   for (const std::string& m : joined) {
     RobotState& state = *robots_.at(m);
-    state.joined_on_whole_maps = h.whole_maps && !h.detection;
-    state.joined_on_submap_matches = !h.whole_maps && !h.detection;
+    state.joined_on_matches_alone = h.detection    ? RobotState::MatchOnlyJoin::kNo
+                                    : h.whole_maps ? RobotState::MatchOnlyJoin::kOnWholeMaps
+                                                   : RobotState::MatchOnlyJoin::kOnSubmapMatches;
     state.join_reviewed_at = submaps;
   }
   // The joined robots' maps move into the part's frame now: what is matched against the part

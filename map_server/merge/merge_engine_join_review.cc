@@ -33,8 +33,10 @@ bool MergeEngine::ReviewMatchOnlyJoins(MergeUpdate* update) {
   std::string robot;
   int submaps = 0;
   for (const auto& [id, state] : robots_) {
-    const bool reviewed = state->joined_on_whole_maps ||
-                          (options_.review_submap_match_joins && state->joined_on_submap_matches);
+    using Join = RobotState::MatchOnlyJoin;
+    const bool reviewed = state->joined_on_matches_alone == Join::kOnWholeMaps ||
+                          (options_.review_submap_match_joins &&
+                           state->joined_on_matches_alone == Join::kOnSubmapMatches);
     if (!reviewed || known_placements_.count(id) || Root(id) == id) continue;
     // A detection that agrees is evidence the whole maps cannot overrule.
     if (VotesWithin(id).agreeing > 0) continue;
@@ -57,7 +59,8 @@ bool MergeEngine::ReviewMatchOnlyJoins(MergeUpdate* update) {
   const int max_refuted =
       std::max(options_.whole_map_max_refuted, options_.whole_map_match_max_refuted);
   // Both maps are drawn in the component's frame: the join as it stands is the identity.
-  const bool on_whole_maps = robots_.at(robot)->joined_on_whole_maps;
+  const bool on_whole_maps =
+      robots_.at(robot)->joined_on_matches_alone == RobotState::MatchOnlyJoin::kOnWholeMaps;
   const WholeMapVerdict verdict =
       SearchWholeMaps(rest, {robot}, Rigid2d(), max_refuted, on_whole_maps);
   if (!verdict.ambiguity) return false;

@@ -22,11 +22,13 @@
 
 namespace fleetmap {
 
+bool MergeEngine::ProbationApplies(const Hypothesis& h) const {
+  return !h.detection && hold_match_only_joins_ && options_.match_join_probation_growth > 1.0;
+}
+
 bool MergeEngine::HeldOnProbation(Hypothesis* h, const std::vector<RelativeEdge>& confirmed_by,
                                   MergeUpdate* update) {
-  if (h->detection || !hold_match_only_joins_ || !(options_.match_join_probation_growth > 1.0)) {
-    return false;
-  }
+  if (!ProbationApplies(*h)) return false;
   const int submaps = FinishedSubmaps(Root(h->robot_a)) + FinishedSubmaps(Root(h->robot_b));
   auto on_probation = std::find_if(probation_.begin(), probation_.end(),
                                    [&](const Hypothesis& p) { return SameAlignment(*h, p); });
@@ -53,9 +55,7 @@ bool MergeEngine::HeldOnProbation(Hypothesis* h, const std::vector<RelativeEdge>
 }
 
 bool MergeEngine::ProbationRunning(const Hypothesis& h) const {
-  if (h.detection || !hold_match_only_joins_ || !(options_.match_join_probation_growth > 1.0)) {
-    return false;
-  }
+  if (!ProbationApplies(h)) return false;
   const int submaps = FinishedSubmaps(Root(h.robot_a)) + FinishedSubmaps(Root(h.robot_b));
   return std::any_of(probation_.begin(), probation_.end(), [&](const Hypothesis& p) {
     return submaps < options_.match_join_probation_growth * p.probation_from && SameAlignment(h, p);

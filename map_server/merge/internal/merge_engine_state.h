@@ -47,8 +47,8 @@ struct MergeEngine::RobotState {
   int64_t joined_at = 0;                      // when it last joined another component (0: never)
   // Joined on matches alone, with no detection: judged again as the maps grow, at
   // join_reviewed_at finished submaps of its component last (merge_engine_join_review.cc).
-  bool joined_on_whole_maps = false;
-  bool joined_on_submap_matches = false;
+  enum class MatchOnlyJoin { kNo, kOnWholeMaps, kOnSubmapMatches };
+  MatchOnlyJoin joined_on_matches_alone = MatchOnlyJoin::kNo;
   int join_reviewed_at = 0;
   std::map<int64_t, size_t> odometry_edge;    // by the later submap of the pair
   // The robot's submaps rendered at their graph poses (the frame of its component).
