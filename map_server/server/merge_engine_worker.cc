@@ -328,8 +328,10 @@ void MergeEngineWorker::Settle() {
           << " s, placing " << placed_after << " robot(s) against " << placed_before << " as fed";
   std::cerr << "fleetmap-server: uploads settled: " << outcome.str()
             << (keep ? "; the rebuild is kept" : "; the merge as fed is kept") << "\n";
-  if (!keep && !stopping_) {
-    // The version history says the check was made.
+  // The version history says the check was made, and how the two merges compared.
+  if (keep) {
+    trigger_ = "uploads settled: " + outcome.str();
+  } else if (!stopping_) {
     trigger_ = "uploads settled: the merge as fed is kept (" + outcome.str() + ")";
     dirty_ = true;
   }
