@@ -14,10 +14,7 @@ namespace {
 class InProcessTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    MapServerOptions options;
-    options.db_path = dir_.path() + "/map.db";
-    options.listen = "127.0.0.1:0";
-    options.merge.min_version_interval = 0.05;
+    MapServerOptions options = testing::LoopbackServerOptions(dir_.path());
     options.max_request_bytes = 1 << 20;
     std::string error;
     server_ = MapServer::Start(options, &error);
@@ -120,10 +117,7 @@ TEST_F(InProcessTest, OutOfOrderTrajectoryIsFailedPrecondition) {
 // that version, if one came within `wait_seconds`.
 std::optional<v1::VersionInfo> SettledVersion(double settle_seconds, double wait_seconds) {
   const testing::ScopedTempDir dir("settle");
-  MapServerOptions options;
-  options.db_path = dir.path() + "/map.db";
-  options.listen = "127.0.0.1:0";
-  options.merge.min_version_interval = 0.05;
+  MapServerOptions options = testing::LoopbackServerOptions(dir.path());
   options.settle_seconds = settle_seconds;
   std::string error;
   const auto server = MapServer::Start(options, &error);

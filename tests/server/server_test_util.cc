@@ -37,6 +37,14 @@ v1::RegisterRobotRequest MakeRegistration(const std::string& robot_id, bool with
   return request;
 }
 
+MapServerOptions LoopbackServerOptions(const std::string& dir) {
+  MapServerOptions options;
+  options.db_path = dir + "/map.db";
+  options.listen = "127.0.0.1:0";
+  options.merge.min_version_interval = 0.05;
+  return options;
+}
+
 bool WaitForVersion(v1::MapService::StubInterface* stub, int64_t version, double seconds) {
   const auto deadline =
       std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int>(seconds * 1e3));

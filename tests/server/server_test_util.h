@@ -4,6 +4,7 @@
 #include <string>
 
 #include "map_server/server/conversions.h"
+#include "map_server/server/map_server.h"
 #include "proto/fleetmap/v1/fleetmap.grpc.pb.h"
 #include "shared/core/occupancy_grid.h"
 
@@ -19,6 +20,9 @@ v1::SubmapUpload MakeSubmapUpload(int64_t submap_id, int64_t revision,
 
 v1::RegisterRobotRequest MakeRegistration(const std::string& robot_id, bool with_start_pose,
                                           const Rigid2d& local_in_global = Rigid2d());
+
+// A server on a free loopback port storing in `dir`/map.db, publishing versions 50 ms apart.
+MapServerOptions LoopbackServerOptions(const std::string& dir);
 
 // Polls GetVersion until the latest version is at least `version`; false after `seconds`.
 bool WaitForVersion(v1::MapService::StubInterface* stub, int64_t version, double seconds = 10.0);

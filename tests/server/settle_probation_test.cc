@@ -25,10 +25,7 @@ using merge_fixtures::SimRobot;
 class SettleProbationTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    MapServerOptions options;
-    options.db_path = dir_.path() + "/map.db";
-    options.listen = "127.0.0.1:0";
-    options.merge.min_version_interval = 0.05;
+    MapServerOptions options = testing::LoopbackServerOptions(dir_.path());
     options.settle_seconds = 1.0;
     options.merge_engine.match_join_probation_growth = 1.25;  // the default, which this is about
     std::string error;
