@@ -68,19 +68,30 @@ void MergeEngine::JudgeHeldAlignments(MergeUpdate* update) {
   probation_.clear();
   for (Hypothesis h : held) {
     if (Root(h.robot_a) == Root(h.robot_b)) continue;
+    h.event.reason +=
+        "; on probation from " + std::to_string(h.probation_from) +
+        " finished submaps, judged again on the maps as they are once uploads settled";
+    // The provenance says why a join held to the end is not made.
+    const auto refuse = [&](const std::string& why) {
+      AlignmentEvent event = h.event;
+      event.type = AlignmentEventType::kRejected;
+      event.reason += ": " + why;
+      update->events.push_back(event);
+    };
     // Detections received since may contradict it, as Consider asks of a new match.
     const DetectionVotes votes = DetectionsAbout(h);
     if (votes.contradicting >= options_.min_contradicting_detections &&
         votes.contradicting > votes.agreeing) {
+      refuse(std::to_string(votes.contradicting) + " detection(s) contradict it");
       continue;
     }
     // The evidence that confirmed it stands; the whole maps may have changed since.
     const WholeMapVerdict whole =
         WholeMapAmbiguity(Root(h.robot_a), Root(h.robot_b), FrameTransform(h), MaxRefuted(h));
-    if (whole.ambiguity) continue;
-    h.event.reason +=
-        "; on probation from " + std::to_string(h.probation_from) +
-        " finished submaps, judged again on the maps as they are once uploads settled";
+    if (whole.ambiguity) {
+      refuse(*whole.ambiguity);
+      continue;
+    }
     if (!whole.note.empty()) h.event.reason += " (" + whole.note + ")";
     Accept(h, h.confirmed_by, update);
   }
