@@ -56,6 +56,12 @@ void AddEngineFlags(CLI::App* app, MergeEngineOptions* options) {
                   "(MergeEngineOptions::whole_map_min_contradictions; 0: never)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_option("--whole-map-max-join-contradictions", options->whole_map_max_join_contradictions,
+                  "merge engine: only a join whose own walls cross seen-free space at this many "
+                  "points or fewer may rule alternatives out by theirs "
+                  "(MergeEngineOptions::whole_map_max_join_contradictions)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app->add_option("--whole-map-max-examined", options->whole_map_max_examined,
                   "merge engine: most alternative alignments of the whole maps examined for one "
                   "join, best scoring first (MergeEngineOptions::whole_map_max_examined)")
