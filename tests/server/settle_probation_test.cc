@@ -95,22 +95,27 @@ const v1::RobotPlacement* Find(const v1::VersionInfo& version, const std::string
 // Robot b's join on robot a passes on matches alone, so it is held on probation until the maps
 // grow by 1.25. a's 4 submaps come first, then b's 3 (b's first two alone do not place it):
 // however the worker batches them, the join first passes with 6 or 7 submaps, and 7 never ends
-// the probation. No growth comes: once the
-// uploads settle, the merge as fed judges the held join on the maps as they are, and places b,
-// as the settled rebuild does. The settled version says so: 2 robots placed as fed (1 without
-// the judgement).
+// the probation. No growth comes: once the uploads settle, the merge as fed judges the held join
+// on the maps as they are, and places b, as the settled rebuild does. The settled version says
+// so: 2 robots placed as fed (1 without the judgement).
 TEST_F(SettleProbationTest, AJoinHeldOnProbationIsMadeOnceUploadsSettle) {
   SimRobot a = merge_fixtures::RobotA(), b = merge_fixtures::RobotB(-2.4);
   a.path.resize(40);
   b.path.resize(30);
   Upload(a);
   Upload(b);
+  const std::vector<v1::VersionInfo> before = Versions();
+  const int64_t uploaded = before.empty() ? 0 : before.back().version();
 
+  // The settled version that saw b's uploads (a loaded machine may settle on a's alone first).
   std::optional<v1::VersionInfo> settled;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (!settled && std::chrono::steady_clock::now() < deadline) {
     for (const v1::VersionInfo& v : Versions()) {
-      if (v.provenance().trigger().rfind("uploads settled", 0) == 0) settled = v;
+      if (v.version() > uploaded && Find(v, "b") &&
+          v.provenance().trigger().rfind("uploads settled", 0) == 0) {
+        settled = v;
+      }
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
