@@ -92,7 +92,10 @@ void MergeEngine::JudgeHeldAlignments(MergeUpdate* update) {
       refuse(*whole.ambiguity);
       continue;
     }
-    if (!whole.note.empty()) h.event.reason += " (" + whole.note + ")";
+    // Said once: the maps often read as they did when it was held.
+    if (!whole.note.empty() && h.event.reason.find(whole.note) == std::string::npos) {
+      h.event.reason += " (" + whole.note + ")";
+    }
     Accept(h, h.confirmed_by, update);
   }
 }

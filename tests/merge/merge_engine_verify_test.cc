@@ -139,6 +139,27 @@ TEST_F(MergeEngineProbationTest, AJoinHeldWhenUploadsSettleIsJudgedOnTheMapsAsTh
   ExpectJoinedTrue();
 }
 
+// Detections received while it was held that contradict it: judged once uploads settle, the join
+// is not made, and the provenance says why.
+TEST_F(MergeEngineProbationTest, AJoinHeldWhenUploadsSettleIsNotMadeWhenDetectionsContradictIt) {
+  for (const size_t step : {5, 10, 15}) {
+    RobotDetection d = Detect(a_, b_, step, false);
+    d.position_in_observer += Eigen::Vector2d(2.0, 1.5);  // b seen 2.5 m from where it is
+    std::string error;
+    ASSERT_TRUE(engine_->AddDetection(d, &error)) << error;
+  }
+  engine_->HoldMatchOnlyJoins(false);
+  bool refused = false;
+  for (const AlignmentEvent& e : engine_->Update().events) {
+    EXPECT_NE(e.type, AlignmentEventType::kAlignmentAccepted) << e.reason;
+    refused |=
+        e.type == AlignmentEventType::kRejected &&
+        e.reason.find("once uploads settled: 3 detection(s) contradict it") != std::string::npos;
+  }
+  EXPECT_TRUE(refused) << "no rejection says why the held join was not made";
+  EXPECT_FALSE(EstimatedRelative(*engine_, "a", "b"));
+}
+
 // Two like offices far apart, a robot turning on the spot in each: each robot's submaps match the
 // other's office, and only the whole building could tell them apart. A second submap of the same
 // walls is the same evidence again: it must not confirm the match.
