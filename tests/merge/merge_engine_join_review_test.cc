@@ -199,5 +199,34 @@ TEST_F(JoinReviewTest, HeldOnProbationTheWrongJoinIsNeverMade) {
   }
 }
 
+// Uploads settle while the turned join is held: it is judged on the maps as they are. Once a
+// has mapped one submap of the office, b's map fits there as well, and the held join is refused,
+// saying why. Without that submap nothing in the maps tells the offices apart, and the turned
+// join is made, as a rebuild from everything stored would make it.
+TEST_F(JoinReviewTest, HeldOnProbationWhenUploadsSettleTheWrongJoinIsRefusedOnceTheMapsTellApart) {
+  for (const size_t office_submaps : {size_t{1}, size_t{0}}) {
+    SCOPED_TRACE(std::to_string(office_submaps) + " submap(s) of the office");
+    MergeEngineOptions options = Options(1.25);
+    options.match_join_probation_growth = 1.25;
+    MergeEngine engine(options);
+    int held = 0;
+    ASSERT_LT(FeedFirstStage(&engine, &held), 0.0);
+    ASSERT_GE(held, 1) << "nothing was held on probation: the case is not the one meant";
+    FeedSubmaps(AllSubmapsOfA(), twin_submaps_, twin_submaps_ + office_submaps, &engine);
+    EXPECT_EQ(UpdateUntilSettled(&engine, AlignmentEventType::kAlignmentAccepted), 0)
+        << "made before the uploads settled";
+    engine.HoldMatchOnlyJoins(false);
+    const int refused = UpdateUntilSettled(&engine, AlignmentEventType::kRejected,
+                                           "once uploads settled: ambiguous over the whole maps");
+    if (office_submaps > 0) {
+      EXPECT_EQ(refused, 1);
+      EXPECT_LT(JoinedOff(engine), 0.0) << "b joined once uploads settled";
+    } else {
+      EXPECT_EQ(refused, 0);
+      EXPECT_GT(JoinedOff(engine), 20.0) << "the turned join, 24 m off, is the case meant";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fleetmap
