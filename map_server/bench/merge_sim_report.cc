@@ -48,6 +48,24 @@ void PrintRun(const RunResult& result, double wall) {
   std::printf("  pair wall points in seen-free space (at the true anchors):");
   for (int crossings : result.pair_crossings) std::printf(" %d", crossings);
   std::printf("\n");
+  if (!result.pair_twins.empty()) {
+    std::printf("  pair twins (the maps' symmetries, at the true anchors):");
+    for (size_t k = 0; k < result.pair_twins.size(); ++k) {
+      const std::optional<PairTwin>& twin = result.pair_twins[k];
+      std::printf("%s", k == 0 ? " " : "; ");
+      if (!twin) {
+        std::printf("none");
+        continue;
+      }
+      std::printf(
+          "centroid %.1f m / %.0f deg off, score %.2f of the truth's (overlap %.2f of the "
+          "truth's, %.2f of its score there), walls in seen-free space %d against %d: %s",
+          twin->shift, std::abs(NormalizeAngle(twin->move.rotation())) * 180.0 / M_PI,
+          twin->score_ratio, twin->overlap_share, twin->overlap_score_ratio, twin->crossings,
+          twin->truth_crossings, twin->ruled_out ? "ruled out" : "stands");
+    }
+    std::printf("\n");
+  }
   std::fflush(stdout);
 }
 

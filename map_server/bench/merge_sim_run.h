@@ -21,6 +21,7 @@ struct BenchOptions {
   double false_rotation = 0.087;
   bool verbose = false;
   bool diagnose = false;  // per-submap and per-edge errors against the truth
+  bool twins = false;     // each pair's twins at the true anchors (RunResult::pair_twins)
   // Score a fresh engine fed everything at once at the end (the server's rebuild once uploads
   // settle) instead of the engine fed as the run went, when it places at least as many robots.
   bool settled_rebuild = false;

@@ -90,7 +90,7 @@ std::set<std::pair<int, int>> SeenCells(const LogOddsCanvas& canvas) {
   return seen;
 }
 
-void PairOverlaps(const std::map<NodeId, Submap>& submaps, const RunTruth& known,
+void PairOverlaps(const std::map<NodeId, Submap>& submaps, const RunTruth& known, bool with_twins,
                   RunResult* result) {
   std::vector<LogOddsCanvas> at_truth(known.names.size(), LogOddsCanvas(kOverlapResolution));
   for (const auto& [id, submap] : submaps) {
@@ -133,12 +133,23 @@ void PairOverlaps(const std::map<NodeId, Submap>& submaps, const RunTruth& known
                       targets[b]->ContradictionsAt(sources[a].fine, Rigid2d()));
     }
   }
+  result->pair_twins.clear();
+  if (with_twins) {
+    LogOddsCanvas all(kOverlapResolution);
+    for (const auto& [id, submap] : submaps) {
+      if (const auto truth = TrueAnchor(known, id)) all.AddSubmap(submap.grid, *truth, 1.0f);
+    }
+    const OccupancyGrid grid = all.ToGrid(grid_options);
+    const MatchTarget all_target(grid, match_options);
+    result->pair_twins = PairTwins(targets, sources, all_target,
+                                   MakeMatchSource(grid, Rigid2d(), match_options), defaults);
+  }
 }
 
 }  // namespace
 
 void ScoreMapBounds(const std::map<NodeId, Submap>& submaps, const RunTruth& known,
-                    const sim::World& world, RunResult* result) {
+                    const sim::World& world, RunResult* result, bool with_twins) {
   const MergeEngineOptions defaults;
   LogOddsCanvas at_truth(defaults.render_resolution);
   std::vector<LogOddsCanvas> local(known.names.size(), LogOddsCanvas(defaults.render_resolution));
@@ -151,7 +162,7 @@ void ScoreMapBounds(const std::map<NodeId, Submap>& submaps, const RunTruth& kno
       local[i].AddSubmap(submap.grid, *known.local_in_world[i] * submap.submap_in_local, 1.0f);
     }
   }
-  PairOverlaps(submaps, known, result);
+  PairOverlaps(submaps, known, with_twins, result);
   const WallMask walls = sim::WorldWalls(world);
   const auto score = [&](const LogOddsCanvas& canvas) {
     if (canvas.empty()) return 0.0;

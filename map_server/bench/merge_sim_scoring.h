@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "map_server/bench/merge_sim_twins.h"
 #include "map_server/merge/merge_engine.h"
 #include "robot_agent/sim/world.h"
 #include "shared/core/rigid2d.h"
@@ -54,6 +55,9 @@ struct RunResult {
   // Per robot pair: wall points of either map in space the other saw free, as the merge
   // engine's whole-map check counts them (MatchTarget::ContradictionsAt), at the true anchors.
   std::vector<int> pair_crossings;
+  // Per robot pair, when asked for (ScoreMapBounds' with_twins): the true alignment's twin that
+  // the whole-map check could least rule out, both maps at their true anchors (PairTwins).
+  std::vector<std::optional<PairTwin>> pair_twins;
   double median_update_ms = 0.0;
   double max_update_ms = 0.0;
   double median_fold_ms = 0.0;  // per submap folded in
@@ -61,7 +65,7 @@ struct RunResult {
   double sim_seconds = 0.0;
 };
 
-constexpr double kNearSubmaps = 8.0;  // metres between true submap anchors
+constexpr double kNearSubmaps = 8.0;        // metres between true submap anchors
 constexpr double kOverlapResolution = 0.2;  // metres, the lattice pair overlaps are counted on
 constexpr double kMinPairOverlap = 0.3;     // issue 8's merge-without-detections precondition
 
@@ -100,9 +104,10 @@ std::string HeadingErrorSummary(const Trajectory& trajectory, const RunTruth& kn
 // submaps themselves, e.g. other robots' bodies or blur within a submap), and each robot's
 // submaps at its own local SLAM anchors, its start frame placed true (its local drift). Also
 // each robot pair's overlap (RunResult::pair_overlap) and the wall points either map puts in
-// space the other saw free (RunResult::pair_crossings).
+// space the other saw free (RunResult::pair_crossings); with `with_twins`, each pair's twins
+// (RunResult::pair_twins, seconds more per run).
 void ScoreMapBounds(const std::map<NodeId, Submap>& submaps, const RunTruth& known,
-                    const sim::World& world, RunResult* result);
+                    const sim::World& world, RunResult* result, bool with_twins = false);
 
 // Scores the engine's merge against the truth: relative transforms of every robot pair's start
 // frames (a pair further off than the thresholds is a false merge), the local consistency of

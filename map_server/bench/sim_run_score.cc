@@ -72,7 +72,7 @@ bool SimRun::Score(std::string* error) {
   const MergeEngine& scored = rebuild_kept ? rebuilt : engine_;
   ScoreMerge(scored, truth_, world, options_.false_translation, options_.false_rotation, result_,
              error);
-  ScoreMapBounds(latest_submaps_, truth_, world, result_);
+  ScoreMapBounds(latest_submaps_, truth_, world, result_, options_.twins);
   if (options_.diagnose)
     PrintSubmapDiagnosis(scored, latest_submaps_, truth_, options_.engine, world);
   result_->median_update_ms = Median(update_ms_);

@@ -26,6 +26,17 @@ constexpr double kTrailResolution = 0.05;  // metres
 
 }  // namespace
 
+MapSymmetryOptions WholeMapSymmetryOptions(const MergeEngineOptions& options) {
+  MapSymmetryOptions symmetry;
+  symmetry.min_overlap = options.whole_map_symmetry_min_overlap;
+  symmetry.min_overlap_score = options.whole_map_ambiguity;
+  symmetry.max_contradictions = options.whole_map_symmetry_max_contradictions;
+  symmetry.max_examined = options.whole_map_symmetry_max_examined;
+  symmetry.distinct = options.cross_gates.distinct;
+  symmetry.gates = options.cross_gates;
+  return symmetry;
+}
+
 std::vector<Eigen::Vector2d> MergeEngine::TrailPositions(const Part& members) const {
   std::vector<Eigen::Vector2d> positions;
   for (const std::string& m : members) {
@@ -92,13 +103,7 @@ MergeEngine::WholeMapVerdict MergeEngine::SearchWholeMaps(const Part& part_a, co
   // followed by one is a twin no search by score may reach (map_symmetries.h).
   std::vector<Rigid2d> symmetries_a, symmetries_b;
   if (options_.whole_map_symmetry_max_examined > 0) {
-    MapSymmetryOptions symmetry;
-    symmetry.min_overlap = options_.whole_map_symmetry_min_overlap;
-    symmetry.min_overlap_score = options_.whole_map_ambiguity;
-    symmetry.max_contradictions = options_.whole_map_symmetry_max_contradictions;
-    symmetry.max_examined = options_.whole_map_symmetry_max_examined;
-    symmetry.distinct = options_.cross_gates.distinct;
-    symmetry.gates = options_.cross_gates;
+    const MapSymmetryOptions symmetry = WholeMapSymmetryOptions(options_);
     const auto cached = [&](const Part& part, const MatchTarget& map, const MatchSource& points,
                             const std::vector<Eigen::Vector2d>& own_walls) {
       const std::string stamp = PartStamp(part);
