@@ -1,5 +1,5 @@
-// The true alignment's twins under each map's own symmetries, judged as the whole-map check
-// judges an alternative (merge_engine_ambiguity.cc), with both maps free of drift.
+// The true alignment's twins under the maps' symmetries, judged as the whole-map check judges
+// an alternative (merge_engine_ambiguity.cc), with both maps free of drift.
 
 #include "map_server/bench/merge_sim_twins.h"
 
@@ -36,8 +36,8 @@ std::vector<std::optional<PairTwin>> PairTwins(
         return target.ContradictionsAt(sources[b].fine, b_moved) +
                targets[b]->ContradictionsAt(sources[a].fine, b_moved.inverse());
       };
-      const double truth_score = target.Evaluate(sources[b], Rigid2d(), options.cross_gates).score;
-      if (!(truth_score > 0.0)) continue;
+      const MatchResult at_truth = target.Evaluate(sources[b], Rigid2d(), options.cross_gates);
+      if (!(at_truth.score > 0.0)) continue;
       const int truth_crossings = crossings(Rigid2d());
       Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
       for (const Eigen::Vector2d& p : sources[b].fine) centroid += p;
@@ -53,19 +53,20 @@ std::vector<std::optional<PairTwin>> PairTwins(
           candidates.push_back(m.inverse());
         }
       }
-      const MatchResult at_truth = target.Evaluate(sources[b], Rigid2d(), options.cross_gates);
       for (const Rigid2d& candidate : candidates) {
         const Rigid2d pose = target.BestFitNear(sources[b], candidate, options.cross_gates);
         const MatchResult at_twin = target.Evaluate(sources[b], pose, options.cross_gates);
         PairTwin twin;
         twin.move = pose;
         twin.shift = (pose * centroid - centroid).norm();
-        twin.score_ratio = at_twin.score / truth_score;
+        twin.score_ratio = at_twin.score / at_truth.score;
         twin.overlap_share = at_twin.overlap / std::max(at_truth.overlap, 1e-9);
         twin.overlap_score_ratio = at_twin.overlap_score / std::max(at_truth.overlap_score, 1e-9);
         // As the whole-map check's alternatives compete: explaining nearly as much over all
         // points, or as consistent where the maps overlap over a sizeable share of the truth's
-        // overlap (a twin the engine finds from a symmetry competes whatever it scores).
+        // overlap. (The engine lets a twin it finds from a symmetry compete whatever it scores;
+        // counting only those that would also compete as alternatives, a twin listed is one any
+        // rule on the maps has to weigh.)
         const bool competes = twin.score_ratio >= options.whole_map_ambiguity ||
                               (twin.overlap_share >= options.whole_map_min_overlap &&
                                twin.overlap_score_ratio >= options.whole_map_ambiguity);
