@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
         std::string error;
         const auto start = std::chrono::steady_clock::now();
         if (!fleetmap::Run(path, options, &result, &error)) {
-          std::cerr << "merge_sim_bench: " << name << ": " << error << "\n";
+          std::cerr << "fleetmap-merge-sim-bench: " << name << ": " << error << "\n";
           return 1;
         }
         const auto elapsed = std::chrono::steady_clock::now() - start;

@@ -29,10 +29,7 @@ std::unique_ptr<sim::Simulation> LoadSimulation(const std::string& path, uint64_
 bool Run(const std::string& scenario, const BenchOptions& options, RunResult* result,
          std::string* error) {
   std::unique_ptr<sim::Simulation> sim = LoadSimulation(scenario, options.seed_offset, error);
-  if (!sim) {
-    *error = scenario + ": " + *error;
-    return false;
-  }
+  if (!sim) return false;  // the error names the file
   SimRun run(std::move(sim), options, result);
   if (!run.Start(error)) return false;
   run.Drive();
