@@ -23,7 +23,7 @@ namespace fleetmap {
 using testing::E2eProcess;
 
 void MergeE2eTest::SetUp() {
-  build_ = testing::MergeE2eBuildDir();
+  build_ = testing::TestBuildDir();
   server_binary_ = build_ + "/map_server/server/fleetmap-server";
   agent_binary_ = build_ + "/robot_agent/agent/fleetmap-agent";
   std::string error;

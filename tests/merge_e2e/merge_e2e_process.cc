@@ -7,22 +7,11 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <thread>
 
 #include "tests/support/test_support.h"
 
 namespace fleetmap::testing {
-
-std::string MergeE2eBuildDir() {
-  if (std::getenv("FLEETMAP_BINARY_DIR")) return BinaryDir();
-  std::error_code error;
-  const auto self = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (error) return BinaryDir();
-  return self.parent_path().parent_path().parent_path().string();
-}
 
 E2eProcess::E2eProcess(const std::string& program, const std::vector<std::string>& args,
                        const std::string& log_path) {
@@ -65,13 +54,6 @@ std::optional<int> E2eProcess::Wait(double seconds) {
     if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-}
-
-std::string ReadWholeFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 }  // namespace fleetmap::testing

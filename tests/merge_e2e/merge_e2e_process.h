@@ -9,9 +9,6 @@
 
 namespace fleetmap::testing {
 
-// The build tree (FLEETMAP_BINARY_DIR, else three levels above this test binary).
-std::string MergeE2eBuildDir();
-
 // A program run by the merge end-to-end test, output appended to `log_path`. Killed with
 // SIGKILL if still running when destroyed.
 class E2eProcess {
@@ -32,8 +29,6 @@ class E2eProcess {
   pid_t pid_ = -1;
   std::optional<int> exit_code_;
 };
-
-std::string ReadWholeFile(const std::string& path);
 
 }  // namespace fleetmap::testing
 

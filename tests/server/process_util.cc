@@ -7,30 +7,16 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <thread>
 
 #include "tests/support/test_support.h"
 
 namespace fleetmap::testing {
-namespace {
-
-// The build tree: FLEETMAP_BINARY_DIR when set, else two levels above this test binary
-// (build/tests/server/<test>).
-std::string BuildDir() {
-  if (std::getenv("FLEETMAP_BINARY_DIR")) return BinaryDir();
-  std::error_code error;
-  const auto self = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (error) return BinaryDir();
-  return self.parent_path().parent_path().parent_path().string();
-}
-
-}  // namespace
 
 ServerProcess StartServerProcess(const std::string& db, const std::string& work_dir,
                                  const std::string& log) {
-  const std::string binary = BuildDir() + "/map_server/server/fleetmap-server";
+  const std::string binary = TestBuildDir() + "/map_server/server/fleetmap-server";
   const std::string port_file = work_dir + "/port";
   std::remove(port_file.c_str());
   ServerProcess server;
@@ -67,7 +53,7 @@ int StopProcess(pid_t pid, int signal) {
 }
 
 int RunCtl(const std::string& args, std::string* output) {
-  const std::string command = BuildDir() + "/map_server/ctl/fleetmapctl " + args + " 2>&1";
+  const std::string command = TestBuildDir() + "/map_server/ctl/fleetmapctl " + args + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return -1;
   output->clear();

@@ -1,13 +1,16 @@
 #include "tests/support/test_support.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <limits>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -112,6 +115,27 @@ std::string BinaryDir() {
 std::string SourceDir() {
   const char* env = std::getenv("FLEETMAP_SOURCE_DIR");
   return env ? env : FLEETMAP_DEFAULT_SOURCE_DIR;
+}
+
+std::string TestBuildDir() {
+  if (std::getenv("FLEETMAP_BINARY_DIR")) return BinaryDir();
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) return BinaryDir();
+  return self.parent_path().parent_path().parent_path().string();
+}
+
+int RunProgram(const std::string& program, const std::string& args, const std::string& log) {
+  const std::string command = TestBuildDir() + "/" + program + " " + args + " > " + log + " 2>&1";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string ReadWholeFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 ScopedTempDir::ScopedTempDir(const std::string& prefix) : path_(NewTempDir(prefix)) {}

@@ -52,6 +52,15 @@ std::optional<std::string> DataFile(const std::string& relative);
 // Build and source trees, from the environment CTest sets (fall back to the current directory).
 std::string BinaryDir();
 std::string SourceDir();
+// The build tree this test binary belongs to, where tests find the product's programs:
+// FLEETMAP_BINARY_DIR when set, else three levels above the running binary
+// (<build>/tests/<folder>/<test>), else BinaryDir().
+std::string TestBuildDir();
+// Runs `program` (a path below TestBuildDir()) with `args` through the shell, its output and
+// errors into `log`. The exit code, or -1 when it did not exit.
+int RunProgram(const std::string& program, const std::string& args, const std::string& log);
+// A file's whole text ("" when it cannot be read).
+std::string ReadWholeFile(const std::string& path);
 
 // A fresh empty directory under the system temp dir, named `prefix`-<random>, removed with
 // everything in it when this goes out of scope. Tests used to leave their folders in /tmp by

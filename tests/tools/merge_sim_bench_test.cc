@@ -4,12 +4,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "tests/support/test_support.h"
@@ -19,26 +14,11 @@ namespace {
 
 using ::testing::HasSubstr;
 
-// The bench: FLEETMAP_BINARY_DIR, or found from this test binary's own place in the build tree
-// (<build>/tests/tools/merge_sim_bench_test) when the variable is not set.
-std::string Bench() {
-  const std::string relative = "/map_server/bench/fleetmap-merge-sim-bench";
-  const std::string from_env = testing::BinaryDir() + relative;
-  if (std::filesystem::exists(from_env)) return from_env;
-  std::error_code code;
-  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", code);
-  if (code) return from_env;
-  return self.parent_path().parent_path().parent_path().string() + relative;
-}
-
 int RunBench(const std::string& args, const std::string& dir, std::string* output) {
-  const std::string log = dir + "/bench.log";
-  const int status = std::system((Bench() + " " + args + " > " + log + " 2>&1").c_str());
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  *output = text.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const int code =
+      testing::RunProgram("map_server/bench/fleetmap-merge-sim-bench", args, dir + "/bench.log");
+  *output = testing::ReadWholeFile(dir + "/bench.log");
+  return code;
 }
 
 // With detections the department's two robots are merged; at their true anchors their maps

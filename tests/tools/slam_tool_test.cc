@@ -2,9 +2,7 @@
 // simulated multi-robot scenario's log, mapped offline, checked against the simulator's truth.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -13,23 +11,6 @@
 
 namespace fleetmap {
 namespace {
-
-// The build tree: FLEETMAP_BINARY_DIR, or found from this test binary's own place in it
-// (<build>/tests/tools/slam_tool_test) when the variable is not set.
-std::string BuildDir() {
-  const std::string from_env = testing::BinaryDir();
-  if (std::filesystem::exists(from_env + "/robot_agent/slam/fleetmap-slam")) return from_env;
-  std::error_code code;
-  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", code);
-  if (code) return from_env;
-  return self.parent_path().parent_path().parent_path().string();
-}
-
-int RunBinary(const std::string& binary, const std::string& args, const std::string& log) {
-  const std::string command = BuildDir() + "/" + binary + " " + args + " > " + log + " 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 // The end pose relative to the start, against the truth's (the benchmarks' end-point error).
 double EndPointError(const Trajectory& estimate, const Trajectory& truth) {
@@ -46,11 +27,14 @@ TEST(SlamToolTest, MapsTheFollowerOfAnotherRobotFromItsSimulatedLog) {
   const testing::ScopedTempDir temp("fleetmap-slam-tool");
   const std::string& dir = temp.path();
   const std::string scenario = testing::SourceDir() + "/tests/merge_e2e/east_end_3robots.yaml";
-  ASSERT_EQ(RunBinary("robot_agent/sim/fleetmap-sim", "--scenario " + scenario + " --out " + dir + "/sim --no-camera --quiet",
-                dir + "/sim.log"),
-            0);
-  ASSERT_EQ(RunBinary("robot_agent/slam/fleetmap-slam", "--log " + dir + "/sim/robot1.clf --out " + dir + "/slam --quiet",
-                dir + "/slam.log"),
+  ASSERT_EQ(
+      testing::RunProgram("robot_agent/sim/fleetmap-sim",
+                          "--scenario " + scenario + " --out " + dir + "/sim --no-camera --quiet",
+                          dir + "/sim.log"),
+      0);
+  ASSERT_EQ(testing::RunProgram("robot_agent/slam/fleetmap-slam",
+                                "--log " + dir + "/sim/robot1.clf --out " + dir + "/slam --quiet",
+                                dir + "/slam.log"),
             0);
   Trajectory estimate, truth;
   std::string error;

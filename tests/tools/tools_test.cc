@@ -27,23 +27,8 @@ struct RunResult {
   std::string err;
 };
 
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// The tools' folder: <FLEETMAP_BINARY_DIR>/shared/tools, or found from this test binary's own
-// place in the build tree (<build>/tests/tools/tools_test) when the variable is not set.
-std::string ToolDir() {
-  const std::string from_env = testing::BinaryDir() + "/shared/tools";
-  if (std::filesystem::exists(from_env + "/fleetmap-log")) return from_env;
-  std::error_code code;
-  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", code);
-  if (code) return from_env;
-  return (self.parent_path().parent_path().parent_path() / "shared" / "tools").string();
-}
+// The tools' folder in the build tree this test belongs to.
+std::string ToolDir() { return testing::TestBuildDir() + "/shared/tools"; }
 
 class ToolsTest : public ::testing::Test {
  protected:
@@ -61,8 +46,8 @@ class ToolsTest : public ::testing::Test {
     const int status = std::system(command.c_str());
     RunResult result;
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    result.out = ReadFile(out);
-    result.err = ReadFile(err);
+    result.out = testing::ReadWholeFile(out);
+    result.err = testing::ReadWholeFile(err);
     return result;
   }
 
