@@ -32,11 +32,13 @@ int main(int argc, char** argv) {
       ->excludes("--no-detections");
   app.add_flag("--verbose", options.verbose, "print every merge event");
   app.add_flag("--diagnose", options.diagnose, fleetmap::kDiagnoseHelp);
-  app.add_flag("--twins", options.twins,
-               "print, for each robot pair with both maps at their true anchors (no local SLAM "
-               "drift), the twin of the true alignment under either map's symmetries that the "
-               "whole-map check could least rule out: whether the maps alone can tell it from "
-               "the truth");
+  app.add_flag(
+      "--twins", options.twins,
+      "print, for each robot pair with both maps at their true anchors (no local SLAM "
+      "drift), the twin of the true alignment under the maps' symmetries (either map's, or "
+      "all maps' together) that the "
+      "whole-map check could least rule out: whether the maps alone can tell it from "
+      "the truth");
   app.add_option("--feed-period", options.feed_period, "sim seconds between engine updates")
       ->capture_default_str();
   app.add_option("--detection-period", options.detection_period,

@@ -4,8 +4,9 @@
 // Every gate, sigma, window and work bound of the merge engine (merge_engine.h), each with why
 // it has the value it has.
 
-#include <Eigen/Core>
 #include <cstdint>
+
+#include <Eigen/Core>
 
 #include "map_server/merge/map_symmetries.h"
 #include "map_server/merge/match_target.h"
@@ -29,7 +30,7 @@ struct MergeEngineOptions {
   double detection_window_sigmas = 3.0;
   double detection_window_min = 0.15;
   double detection_window_max = 0.6;
-  double heading_window_min = 0.1;   // radians, with a measured relative heading
+  double heading_window_min = 0.1;  // radians, with a measured relative heading
   double source_time_window = 10.0;  // seconds: the seen robot's submaps used around a detection
   double trajectory_max_gap = 2.0;   // seconds, for interpolating poses
   // Detections waiting for poses beyond this many are dropped, oldest first (and reported).
@@ -292,7 +293,7 @@ struct MergeEngineOptions {
   double match_rotation_sigma = 0.006;
   double loop_translation_sigma = 0.02;
   double loop_rotation_sigma = 0.002;
-  double robust_scale = 2.0;           // Cauchy scale, in sigmas, for inter-robot edges
+  double robust_scale = 2.0;  // Cauchy scale, in sigmas, for inter-robot edges
   double odometry_robust_scale = 0.0;  // the same for consecutive-submap edges (0: none)
   // A match found against a part's composite map becomes an edge from one node of that part;
   // refined again against that node's submap alone (moving at most this far), the edge measures
@@ -309,7 +310,7 @@ struct MergeEngineOptions {
   // The incrementally kept global map.
   double render_resolution = 0.05;
   OccupancyGridOptions render_grid;
-  double rerender_threshold = 0.25;     // cells: a submap that moved less keeps its rendering
+  double rerender_threshold = 0.25;   // cells: a submap that moved less keeps its rendering
   int64_t max_render_cells = 64 << 20;  // refuse renders larger than this
 };
 
