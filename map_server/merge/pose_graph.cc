@@ -1,31 +1,24 @@
 #include "map_server/merge/pose_graph.h"
 
+#include <ceres/ceres.h>
+
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include <Eigen/Cholesky>
-#include <ceres/ceres.h>
+#include "shared/core/relative_pose_residual.h"
 
 namespace fleetmap {
 namespace {
 
-template <typename T>
-T WrapAngle(const T& angle) {
-  const T two_pi(2.0 * M_PI);
-  return angle - two_pi * ceres::floor((angle + T(M_PI)) / two_pi);
-}
-
 // Residual of a relative edge, in units of sigma.
 struct RelativeCost {
-  RelativeCost(const RelativeEdge& e) : edge(e) {}
+  explicit RelativeCost(const RelativeEdge& e) : edge(e) {}
   template <typename T>
   bool operator()(const T* from, const T* to, T* residual) const {
-    const T c = ceres::cos(from[2]), s = ceres::sin(from[2]);
-    const T dx = to[0] - from[0], dy = to[1] - from[1];
-    residual[0] = (c * dx + s * dy - T(edge.to_in_from.x())) / T(edge.translation_sigma);
-    residual[1] = (-s * dx + c * dy - T(edge.to_in_from.y())) / T(edge.translation_sigma);
-    residual[2] = WrapAngle(to[2] - from[2] - T(edge.to_in_from.rotation())) / T(edge.rotation_sigma);
+    RelativePoseResidual(from, to, edge.to_in_from, edge.translation_sigma, edge.rotation_sigma,
+                         residual);
     return true;
   }
   RelativeEdge edge;

@@ -4,32 +4,23 @@
 
 #include <ceres/ceres.h>
 
+#include "shared/core/relative_pose_residual.h"
+
 namespace fleetmap {
 namespace {
 
-template <typename T>
-T WrapAngle(const T& angle) {
-  const T two_pi(2.0 * M_PI);
-  return angle - two_pi * ceres::floor((angle + T(M_PI)) / two_pi);
-}
-
 // Whitened error of the measured relative pose against the one the two poses imply.
 struct RelativePoseCost {
-  explicit RelativePoseCost(const PoseGraphConstraint& c)
-      : x(c.relative.x()), y(c.relative.y()), theta(c.relative.rotation()),
-        inv_t(1.0 / c.translation_sigma), inv_r(1.0 / c.rotation_sigma) {}
+  explicit RelativePoseCost(const PoseGraphConstraint& c) : constraint(c) {}
 
   template <typename T>
   bool operator()(const T* from, const T* to, T* residual) const {
-    const T c = ceres::cos(from[2]), s = ceres::sin(from[2]);
-    const T dx = to[0] - from[0], dy = to[1] - from[1];
-    residual[0] = (c * dx + s * dy - T(x)) * T(inv_t);
-    residual[1] = (-s * dx + c * dy - T(y)) * T(inv_t);
-    residual[2] = WrapAngle(to[2] - from[2] - T(theta)) * T(inv_r);
+    RelativePoseResidual(from, to, constraint.relative, constraint.translation_sigma,
+                         constraint.rotation_sigma, residual);
     return true;
   }
 
-  double x, y, theta, inv_t, inv_r;
+  PoseGraphConstraint constraint;
 };
 
 }  // namespace
