@@ -1,6 +1,6 @@
 #include "map_server/server/known_pose_merge_worker.h"
 
-#include <iostream>
+#include <utility>
 
 #include "map_server/server/global_map_renderer.h"
 
@@ -8,11 +8,6 @@ namespace fleetmap {
 namespace {
 
 constexpr char kEngineName[] = "known-start-pose";
-
-double UnixNow() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 OccupancyGrid EmptyCanvas(double resolution) {
   OccupancyGridOptions options;
@@ -22,13 +17,9 @@ OccupancyGrid EmptyCanvas(double resolution) {
 
 }  // namespace
 
-KnownPoseMergeWorker::KnownPoseMergeWorker(const KnownPoseMergeWorkerOptions& options,
-                                           MapStore* store, VersionFeed* feed)
-    : options_(options),
-      store_(store),
-      feed_(feed),
-      queue_(options.queue_capacity),
-      canvas_(EmptyCanvas(options.resolution)) {}
+KnownPoseMergeWorker::KnownPoseMergeWorker(const MergeWorkerOptions& options, MapStore* store,
+                                           VersionFeed* feed)
+    : QueuedMergeWorker(options, store, feed), canvas_(EmptyCanvas(options.resolution)) {}
 
 KnownPoseMergeWorker::~KnownPoseMergeWorker() { Stop(); }
 
@@ -36,46 +27,18 @@ void KnownPoseMergeWorker::Start() {
   const std::optional<VersionRecord> latest = store_->LatestVersion();
   Rebuild("startup: rebuilt from the store");
   // Serve the stored latest version as it is, unless acknowledged data is missing from it.
-  bool published = false;
-  if (latest && latest->covered_submap_seq >= covered_seq_) {
-    auto snapshot = std::make_shared<GlobalMapSnapshot>();
-    snapshot->info = *latest;
-    const auto grid = store_->GetVersionGrid(latest->version);
-    GridDecodeError code;
-    std::string error;
-    if (grid && Decompress(*grid, GridLimits(), &snapshot->grid, &code, &error)) {
-      snapshot->encoded = *grid;
-      feed_->Publish(snapshot);
-      published = true;
-    }
-  }
+  const bool published =
+      latest && latest->covered_submap_seq >= covered_seq_ && PublishStoredVersion(*latest);
   if (!published && (covered_seq_ > 0 || !robots_.empty())) PublishVersion();
   dirty_ = false;
   trigger_.clear();
   trigger_robots_.clear();
   new_submaps_.clear();
-  last_publish_ = std::chrono::steady_clock::now();
-  thread_ = std::thread([this] { Run(); });
-}
-
-void KnownPoseMergeWorker::Stop() {
-  if (!thread_.joinable()) return;
-  stopping_ = true;
-  queue_.Close();
-  thread_.join();
-}
-
-void KnownPoseMergeWorker::Submit(MergeEvent event) {
-  if (!queue_.TryPush(std::move(event))) resync_needed_ = true;
-}
-
-std::vector<RobotPlacementRecord> KnownPoseMergeWorker::Placements() const {
-  std::lock_guard<std::mutex> lock(placements_mutex_);
-  return placements_;
+  StartThread();
 }
 
 void KnownPoseMergeWorker::Run() {
-  const auto interval = std::chrono::duration<double>(options_.min_version_interval);
+  const auto interval = std::chrono::duration<double>(common_options_.min_version_interval);
   while (true) {
     auto event = queue_.PopWait(std::chrono::milliseconds(50));
     const bool drained = !event.has_value();
@@ -168,7 +131,7 @@ void KnownPoseMergeWorker::ApplySubmap(const StoredSubmap& stored) {
 }
 
 void KnownPoseMergeWorker::Rebuild(const std::string& trigger) {
-  canvas_ = EmptyCanvas(options_.resolution);
+  canvas_ = EmptyCanvas(common_options_.resolution);
   rendered_.clear();
   robots_.clear();
   unplaced_submaps_ = 0;
@@ -199,47 +162,14 @@ void KnownPoseMergeWorker::RefreshPlacements() {
     }
     placements.push_back(std::move(p));
   }
-  std::lock_guard<std::mutex> lock(placements_mutex_);
-  placements_ = std::move(placements);
+  SetPlacements(std::move(placements));
 }
 
 void KnownPoseMergeWorker::PublishVersion() {
-  auto snapshot = std::make_shared<GlobalMapSnapshot>();
-  VersionRecord& info = snapshot->info;
-  info.created_unix_time = UnixNow();
-  info.covered_submap_seq = covered_seq_;
-  info.trigger = trigger_.empty() ? "update" : trigger_;
-  info.trigger_robot_ids.assign(trigger_robots_.begin(), trigger_robots_.end());
-  info.new_submaps = new_submaps_;
-  info.new_detections = new_detections_;
-  info.merge_engine = kEngineName;
-  info.placements = Placements();
-  int placed = 0;
-  for (const auto& p : info.placements) placed += p.placed;
-  info.quality["robots_placed"] = placed;
-  info.quality["robots_unplaced"] = static_cast<double>(info.placements.size()) - placed;
+  VersionRecord info = PendingVersion("update", kEngineName);
   info.quality["submaps_rendered"] = static_cast<double>(rendered_.size());
   info.quality["submaps_unplaced"] = static_cast<double>(unplaced_submaps_);
-  snapshot->grid = Quantize(canvas_, options_.log_odds_limit, /*crop_to_known=*/true);
-  if (snapshot->grid.geometry.cells() == 0) snapshot->grid.geometry.origin.setZero();
-  snapshot->encoded = Compress(snapshot->grid, options_.zstd_level);
-  std::string error;
-  info.version = store_->PutVersion(info, snapshot->encoded, &error);
-  if (info.version == 0) {
-    // Keep the pending provenance; the next pass retries.
-    std::cerr << "fleetmap-server: storing a global map version failed: " << error << "\n";
-    last_publish_ = std::chrono::steady_clock::now();
-    return;
-  }
-  info.geometry = snapshot->encoded.geometry;
-  info.grid_available = true;
-  feed_->Publish(snapshot);
-  dirty_ = false;
-  trigger_.clear();
-  trigger_robots_.clear();
-  new_submaps_.clear();
-  new_detections_.clear();
-  last_publish_ = std::chrono::steady_clock::now();
+  StoreAndPublish(std::move(info), canvas_);
 }
 
 }  // namespace fleetmap

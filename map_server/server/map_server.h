@@ -20,7 +20,7 @@ struct MapServerOptions {
   std::string listen = "127.0.0.1:50051";  // host:port; port 0 picks a free one
   bool fsync_every_commit = false;
   RetentionOptions retention;
-  KnownPoseMergeWorkerOptions merge;  // queue, version pacing, resolution: both workers
+  MergeWorkerOptions merge;  // queue, version pacing, resolution: both workers
   // "engine": MergeEngineWorker (robots of unknown start are aligned; robots registered with a
   // start pose are held there); "known-pose": KnownPoseMergeWorker (registered poses only).
   std::string merge_worker = "engine";

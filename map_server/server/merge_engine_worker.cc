@@ -10,11 +10,6 @@ namespace {
 
 constexpr char kEngineName[] = "merge-engine";
 
-double UnixNow() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 std::set<std::string> PlacedSet(const std::vector<RobotPlacementRecord>& placements) {
   std::set<std::string> placed;
   for (const auto& p : placements) {
@@ -27,10 +22,8 @@ std::set<std::string> PlacedSet(const std::vector<RobotPlacementRecord>& placeme
 
 MergeEngineWorker::MergeEngineWorker(const MergeEngineWorkerOptions& options, MapStore* store,
                                      VersionFeed* feed)
-    : options_(options),
-      store_(store),
-      feed_(feed),
-      queue_(options.common.queue_capacity),
+    : QueuedMergeWorker(options.common, store, feed),
+      options_(options),
       engine_(std::make_unique<MergeEngine>(options.engine)) {}
 
 MergeEngineWorker::~MergeEngineWorker() { Stop(); }
@@ -40,37 +33,11 @@ void MergeEngineWorker::Start() {
   // the store on the worker thread, since re-aligning every robot is heavy.
   restored_ = store_->LatestVersion();
   if (restored_) {
-    auto snapshot = std::make_shared<GlobalMapSnapshot>();
-    snapshot->info = *restored_;
-    const auto grid = store_->GetVersionGrid(restored_->version);
-    GridDecodeError code;
-    std::string error;
-    if (grid && Decompress(*grid, GridLimits(), &snapshot->grid, &code, &error)) {
-      snapshot->encoded = *grid;
-      feed_->Publish(snapshot);
-    }
-    std::lock_guard<std::mutex> lock(placements_mutex_);
-    placements_ = restored_->placements;
+    PublishStoredVersion(*restored_);
+    SetPlacements(restored_->placements);
   }
   rebuild_pending_ = true;
-  last_publish_ = std::chrono::steady_clock::now();
-  thread_ = std::thread([this] { Run(); });
-}
-
-void MergeEngineWorker::Stop() {
-  if (!thread_.joinable()) return;
-  stopping_ = true;
-  queue_.Close();
-  thread_.join();
-}
-
-void MergeEngineWorker::Submit(MergeEvent event) {
-  if (!queue_.TryPush(std::move(event))) resync_needed_ = true;
-}
-
-std::vector<RobotPlacementRecord> MergeEngineWorker::Placements() const {
-  std::lock_guard<std::mutex> lock(placements_mutex_);
-  return placements_;
+  StartThread();
 }
 
 void MergeEngineWorker::Run() {
@@ -339,25 +306,11 @@ void MergeEngineWorker::Settle() {
 
 void MergeEngineWorker::RefreshPlacements() {
   std::vector<RobotPlacementRecord> placements = MakePlacements(robots_, *engine_, status_);
-  std::lock_guard<std::mutex> lock(placements_mutex_);
-  placements_ = std::move(placements);
+  SetPlacements(std::move(placements));
 }
 
 void MergeEngineWorker::PublishVersion() {
-  auto snapshot = std::make_shared<GlobalMapSnapshot>();
-  VersionRecord& info = snapshot->info;
-  info.created_unix_time = UnixNow();
-  info.covered_submap_seq = covered_seq_;
-  info.trigger = trigger_.empty() ? "merge update" : trigger_;
-  info.trigger_robot_ids.assign(trigger_robots_.begin(), trigger_robots_.end());
-  info.new_submaps = new_submaps_;
-  info.new_detections = new_detections_;
-  info.merge_engine = kEngineName;
-  info.placements = Placements();
-  int placed = 0;
-  for (const auto& p : info.placements) placed += p.placed;
-  info.quality["robots_placed"] = placed;
-  info.quality["robots_unplaced"] = static_cast<double>(info.placements.size()) - placed;
+  VersionRecord info = PendingVersion("merge update", kEngineName);
   info.quality["submaps_placed"] = static_cast<double>(engine_->SubmapPoses().size());
   AddEngineProvenance(new_events_, engine_->Quality(), &info);
   // A rebuild re-makes every join: say first that it was a rebuild.
@@ -374,25 +327,7 @@ void MergeEngineWorker::PublishVersion() {
     empty.resolution = options_.common.resolution;
     grid.emplace(empty);
   }
-  snapshot->grid = Quantize(*grid, options_.common.log_odds_limit, /*crop_to_known=*/true);
-  if (snapshot->grid.geometry.cells() == 0) snapshot->grid.geometry.origin.setZero();
-  snapshot->encoded = Compress(snapshot->grid, options_.common.zstd_level);
-  info.version = store_->PutVersion(info, snapshot->encoded, &error);
-  last_publish_ = std::chrono::steady_clock::now();
-  if (info.version == 0) {
-    // Keep the pending provenance; the next pass retries.
-    std::cerr << "fleetmap-server: storing a global map version failed: " << error << "\n";
-    return;
-  }
-  info.geometry = snapshot->encoded.geometry;
-  info.grid_available = true;
-  feed_->Publish(snapshot);
-  dirty_ = false;
-  trigger_.clear();
-  trigger_robots_.clear();
-  new_submaps_.clear();
-  new_detections_.clear();
-  new_events_.clear();
+  if (StoreAndPublish(std::move(info), *grid)) new_events_.clear();
 }
 
 }  // namespace fleetmap

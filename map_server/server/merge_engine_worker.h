@@ -1,28 +1,22 @@
 #ifndef FLEETMAP_MAP_SERVER_SERVER_MERGE_ENGINE_WORKER_H_
 #define FLEETMAP_MAP_SERVER_SERVER_MERGE_ENGINE_WORKER_H_
 
-#include <atomic>
 #include <chrono>
 #include <map>
 #include <memory>
-#include <mutex>
+#include <optional>
 #include <set>
-#include <thread>
+#include <string>
 #include <vector>
 
 #include "map_server/merge/merge_engine.h"
-#include "map_server/server/bounded_queue.h"
-#include "map_server/server/known_pose_merge_worker.h"
 #include "map_server/server/merge_engine_provenance.h"
-#include "map_server/server/merge_worker.h"
-#include "map_server/server/version_feed.h"
-#include "map_server/store/map_store.h"
+#include "map_server/server/queued_merge_worker.h"
 
 namespace fleetmap {
 
 struct MergeEngineWorkerOptions {
-  // Queue, version pacing and map encoding: the same fields as the known-pose worker.
-  KnownPoseMergeWorkerOptions common;
+  MergeWorkerOptions common;
   MergeEngineOptions engine;
   // Once no submap, detection or robot registration has come for this long, the engine is
   // rebuilt from the store with everything at once, and the rebuild kept when it places at least
@@ -42,18 +36,15 @@ struct MergeEngineWorkerOptions {
 // start pose are held there (MergeEngine::SetKnownPlacement), as with KnownPoseMergeWorker.
 // On start and on queue overflow the engine is rebuilt from the store, and once uploads settle
 // (settle_seconds).
-class MergeEngineWorker : public MergeWorker {
+class MergeEngineWorker : public QueuedMergeWorker {
  public:
   MergeEngineWorker(const MergeEngineWorkerOptions& options, MapStore* store, VersionFeed* feed);
   ~MergeEngineWorker() override;
 
   void Start() override;
-  void Stop() override;
-  void Submit(MergeEvent event) override;
-  std::vector<RobotPlacementRecord> Placements() const override;
 
  private:
-  void Run();
+  void Run() override;
   void Apply(const MergeEvent& event);
   void ApplyRobot(const std::string& robot_id);
   void ApplySubmap(const StoredSubmap& stored);
@@ -71,12 +62,6 @@ class MergeEngineWorker : public MergeWorker {
   void PublishVersion();
 
   const MergeEngineWorkerOptions options_;
-  MapStore* const store_;
-  VersionFeed* const feed_;
-  BoundedQueue<MergeEvent> queue_;
-  std::atomic<bool> resync_needed_{false};
-  std::atomic<bool> stopping_{false};
-  std::thread thread_;
 
   // Owned by the worker thread (and by Start() before the thread exists).
   std::unique_ptr<MergeEngine> engine_;
@@ -91,17 +76,7 @@ class MergeEngineWorker : public MergeWorker {
   bool engine_inputs_ = false;  // the engine got data since its last Update()
   bool settled_ = true;  // no submap, detection or robot since the last Settle() (or the start)
   std::chrono::steady_clock::time_point last_input_;
-  int64_t covered_seq_ = 0;
-  bool dirty_ = false;
-  std::string trigger_;
-  std::set<std::string> trigger_robots_;
-  std::vector<SubmapKey> new_submaps_;
-  std::vector<DetectionRef> new_detections_;
   std::vector<AlignmentEvent> new_events_;
-  std::chrono::steady_clock::time_point last_publish_;
-
-  mutable std::mutex placements_mutex_;  // guards placements_ (read by RPC threads)
-  std::vector<RobotPlacementRecord> placements_;
 };
 
 }  // namespace fleetmap

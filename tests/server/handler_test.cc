@@ -22,8 +22,8 @@ class HandlerTest : public ::testing::Test {
     worker_.Start();
   }
   ~HandlerTest() override { worker_.Stop(); }
-  static KnownPoseMergeWorkerOptions WorkerOptions() {
-    KnownPoseMergeWorkerOptions options;
+  static MergeWorkerOptions WorkerOptions() {
+    MergeWorkerOptions options;
     options.min_version_interval = 0.0;
     return options;
   }
