@@ -12,6 +12,24 @@ namespace fleetmap {
 using internal::Fail;
 using internal::Statement;
 
+namespace {
+
+// The columns both the pending and the rejected items' queries start with: seq, robot_id, kind,
+// item_id, revision, payload, attempts.
+OutboxItem ItemColumns(Statement& select) {
+  OutboxItem item;
+  item.seq = sqlite3_column_int64(select.get(), 0);
+  item.key.robot_id = select.Text(1);
+  item.key.kind = static_cast<OutboxKind>(sqlite3_column_int(select.get(), 2));
+  item.key.id = sqlite3_column_int64(select.get(), 3);
+  item.key.revision = sqlite3_column_int64(select.get(), 4);
+  item.payload = select.Text(5);
+  item.attempts = sqlite3_column_int(select.get(), 6);
+  return item;
+}
+
+}  // namespace
+
 bool Outbox::ReadItems(const char* sql, OutboxKind kind, double now, int limit, int64_t max_bytes,
                        std::vector<OutboxItem>* items, std::string* error) {
   items->clear();
@@ -23,14 +41,7 @@ bool Outbox::ReadItems(const char* sql, OutboxKind kind, double now, int limit, 
   int64_t bytes = 0;
   int rc;
   while ((rc = select.Step()) == SQLITE_ROW) {
-    OutboxItem item;
-    item.seq = sqlite3_column_int64(select.get(), 0);
-    item.key.robot_id = select.Text(1);
-    item.key.kind = static_cast<OutboxKind>(sqlite3_column_int(select.get(), 2));
-    item.key.id = sqlite3_column_int64(select.get(), 3);
-    item.key.revision = sqlite3_column_int64(select.get(), 4);
-    item.payload = select.Text(5);
-    item.attempts = sqlite3_column_int(select.get(), 6);
+    OutboxItem item = ItemColumns(select);
     item.next_attempt_time = sqlite3_column_double(select.get(), 7);
     item.last_error = select.Text(8);
     bytes += static_cast<int64_t>(item.payload.size());
@@ -166,14 +177,7 @@ bool Outbox::Rejected(std::vector<OutboxItem>* items, std::string* error) {
   if (!select.ok()) return Fail(db_, "preparing select", error);
   int rc;
   while ((rc = select.Step()) == SQLITE_ROW) {
-    OutboxItem item;
-    item.seq = sqlite3_column_int64(select.get(), 0);
-    item.key.robot_id = select.Text(1);
-    item.key.kind = static_cast<OutboxKind>(sqlite3_column_int(select.get(), 2));
-    item.key.id = sqlite3_column_int64(select.get(), 3);
-    item.key.revision = sqlite3_column_int64(select.get(), 4);
-    item.payload = select.Text(5);
-    item.attempts = sqlite3_column_int(select.get(), 6);
+    OutboxItem item = ItemColumns(select);
     item.last_error = select.Text(7);
     items->push_back(std::move(item));
   }
