@@ -6,8 +6,7 @@
 #include <cstring>
 #include <memory>
 
-#include "shared/io/carmen_parse.h"
-#include "shared/io/decompressing_stream.h"
+#include "shared/io/number_rows_file.h"
 
 namespace fleetmap {
 namespace {
@@ -37,39 +36,13 @@ bool WriteTrajectory(const std::string& path, const Trajectory& trajectory, std:
 // 631 laser scans whose ipc_timestamp is earlier than the previous scan's, by up to 0.9 s), and
 // the metrics look poses up by time anyway.
 bool ReadTrajectory(const std::string& path, Trajectory* trajectory, std::string* error) {
-  std::string open_error;
-  std::unique_ptr<DecompressingStream> stream = DecompressingStream::Open(path, &open_error);
-  if (!stream) return Fail(error, open_error);
   trajectory->clear();
-  carmen::Tokens tokens;
-  std::string_view line;
-  long line_number = 0;
-  while (stream->NextLine(&line)) {
-    ++line_number;
-    carmen::SplitTokens(line, &tokens);
-    if (tokens.empty() || tokens[0][0] == '#') continue;
-    const std::string where = path + ":" + std::to_string(line_number) + ": ";
-    if (tokens.size() != 4) {
-      return Fail(error, where + "expected 4 values 'timestamp x y theta', found " +
-                             std::to_string(tokens.size()));
-    }
-    double values[4];
-    for (int i = 0; i < 4; ++i) {
-      if (!carmen::ParseDouble(tokens[static_cast<size_t>(i)], &values[i])) {
-        return Fail(error, where + "value " + std::to_string(i + 1) + " '" +
-                               std::string(tokens[static_cast<size_t>(i)].substr(0, 20)) +
-                               "' is not a number");
-      }
-      if (!std::isfinite(values[i])) {
-        return Fail(error, where + "value " + std::to_string(i + 1) + " is not finite");
-      }
-    }
-    trajectory->push_back(StampedPose{values[0], Rigid2d(values[1], values[2], values[3])});
-  }
-  if (!stream->error().empty()) {
-    return Fail(error, path + ":" + std::to_string(line_number + 1) + ": " + stream->error());
-  }
-  return true;
+  return ReadNumberRows(
+      path, 4, "timestamp x y theta",
+      [&](const double* v) {
+        trajectory->push_back(StampedPose{v[0], Rigid2d(v[1], v[2], v[3])});
+      },
+      error);
 }
 
 }  // namespace fleetmap
