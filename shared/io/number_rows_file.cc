@@ -8,20 +8,16 @@
 #include "shared/io/decompressing_stream.h"
 
 namespace fleetmap {
-namespace {
-
-bool Fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
-  return false;
-}
-
-}  // namespace
 
 bool ReadNumberRows(const std::string& path, int columns, const std::string& layout,
                     const std::function<void(const double* values)>& row, std::string* error) {
+  const auto fail = [error](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
   std::string open_error;
   std::unique_ptr<DecompressingStream> stream = DecompressingStream::Open(path, &open_error);
-  if (!stream) return Fail(error, open_error);
+  if (!stream) return fail(open_error);
   const size_t count = static_cast<size_t>(columns);
   std::vector<double> values(count);
   carmen::Tokens tokens;
@@ -33,22 +29,22 @@ bool ReadNumberRows(const std::string& path, int columns, const std::string& lay
     if (tokens.empty() || tokens[0][0] == '#') continue;
     const std::string where = path + ":" + std::to_string(line_number) + ": ";
     if (tokens.size() != count) {
-      return Fail(error, where + "expected " + std::to_string(columns) + " values '" + layout +
-                             "', found " + std::to_string(tokens.size()));
+      return fail(where + "expected " + std::to_string(columns) + " values '" + layout +
+                  "', found " + std::to_string(tokens.size()));
     }
     for (size_t i = 0; i < count; ++i) {
       if (!carmen::ParseDouble(tokens[i], &values[i])) {
-        return Fail(error, where + "value " + std::to_string(i + 1) + " '" +
-                               std::string(tokens[i].substr(0, 20)) + "' is not a number");
+        return fail(where + "value " + std::to_string(i + 1) + " '" +
+                    std::string(tokens[i].substr(0, 20)) + "' is not a number");
       }
       if (!std::isfinite(values[i])) {
-        return Fail(error, where + "value " + std::to_string(i + 1) + " is not finite");
+        return fail(where + "value " + std::to_string(i + 1) + " is not finite");
       }
     }
     row(values.data());
   }
   if (!stream->error().empty()) {
-    return Fail(error, path + ":" + std::to_string(line_number + 1) + ": " + stream->error());
+    return fail(path + ":" + std::to_string(line_number + 1) + ": " + stream->error());
   }
   return true;
 }
