@@ -102,10 +102,12 @@ int main(int argc, char** argv) {
     }
     for (int with = both ? 1 : 0; with >= (with_only ? 1 : 0); --with) {
       options.detections = with == 1;
+      const std::string mode =
+          fleetmap::DetectionsMode(options.detections, options.outlier_fraction);
       std::vector<fleetmap::RunResult> runs;
       for (int k = first_seed; k < first_seed + seeds; ++k) {
         options.seed_offset = static_cast<uint64_t>(k);
-        std::cout << name << (options.detections ? " (with detections)" : " (no detections)");
+        std::cout << name << " (" << mode << ")";
         if (seeds > 1 || first_seed > 0) std::cout << ", seed +" << k;
         std::cout << ": running..." << std::endl;
         fleetmap::RunResult result;
@@ -121,7 +123,7 @@ int main(int argc, char** argv) {
         false_as_fed += result.false_merges_as_fed;
         runs.push_back(std::move(result));
       }
-      fleetmap::PrintSummary(name, options.detections, runs);
+      fleetmap::PrintSummary(name, mode, runs);
     }
   }
   std::cout << "total false merges: " << false_merges

@@ -69,7 +69,17 @@ void PrintRun(const RunResult& result, double wall) {
   std::fflush(stdout);
 }
 
-void PrintSummary(const std::string& name, bool detections, const std::vector<RunResult>& runs) {
+std::string DetectionsMode(bool detections, double outlier_fraction) {
+  if (!detections) return "no detections";
+  if (outlier_fraction <= 0.0) return "with detections";
+  char corrupted[64];
+  std::snprintf(corrupted, sizeof(corrupted), "with detections, %g %% corrupted",
+                100.0 * outlier_fraction);
+  return corrupted;
+}
+
+void PrintSummary(const std::string& name, const std::string& mode,
+                  const std::vector<RunResult>& runs) {
   if (runs.size() < 2) return;
   double map_sum = 0.0, map_min = 1.0, map_max = 0.0, worst_pair = 0.0, fit_sum = 0.0;
   int merged = 0, pairs = 0, false_merges = 0, overlapping = 0, overlapping_placed = 0;
@@ -95,10 +105,9 @@ void PrintSummary(const std::string& name, bool detections, const std::vector<Ru
       "  SUMMARY %s (%s), %zu seeds: map %.2f %% mean (%.2f-%.2f; best rigid fit %.2f %% "
       "mean), worst pair %.3f m, merged pairs %d/%d (overlapping by %.0f %% or more: %d/%d), "
       "false merges %d (as the run went: %d)\n",
-      name.c_str(), detections ? "with detections" : "no detections", runs.size(),
-      100.0 * map_sum / n, 100.0 * map_min, 100.0 * map_max, 100.0 * fit_sum / n, worst_pair,
-      merged, pairs, 100.0 * kMinPairOverlap, overlapping_placed, overlapping, false_merges,
-      false_as_fed);
+      name.c_str(), mode.c_str(), runs.size(), 100.0 * map_sum / n, 100.0 * map_min,
+      100.0 * map_max, 100.0 * fit_sum / n, worst_pair, merged, pairs, 100.0 * kMinPairOverlap,
+      overlapping_placed, overlapping, false_merges, false_as_fed);
   std::fflush(stdout);
 }
 

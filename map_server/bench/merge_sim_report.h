@@ -13,7 +13,12 @@ void PrintRun(const RunResult& result, double wall);
 
 // One scenario and detection mode over several seeds (nothing for a single run): single runs
 // spread by several points of map accuracy, more than most changes move them.
-void PrintSummary(const std::string& name, bool detections, const std::vector<RunResult>& runs);
+// `mode` says which detections the runs had (DetectionsMode).
+void PrintSummary(const std::string& name, const std::string& mode,
+                  const std::vector<RunResult>& runs);
+
+// "no detections", "with detections", or "with detections, 10 % corrupted".
+std::string DetectionsMode(bool detections, double outlier_fraction);
 
 }  // namespace fleetmap
 
