@@ -1,6 +1,7 @@
 #include "map_server/server/queued_merge_worker.h"
 
 #include <iostream>
+#include <memory>
 #include <utility>
 
 #include "shared/codec/grid_codec.h"
