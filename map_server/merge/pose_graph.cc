@@ -1,11 +1,11 @@
 #include "map_server/merge/pose_graph.h"
 
-#include <ceres/ceres.h>
-
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
+
+#include <Eigen/Cholesky>
+#include <ceres/ceres.h>
 
 #include "shared/core/relative_pose_residual.h"
 

@@ -41,7 +41,7 @@ void MergeEngineWorker::Start() {
 }
 
 void MergeEngineWorker::Run() {
-  const auto interval = std::chrono::duration<double>(options_.common.min_version_interval);
+  const auto interval = std::chrono::duration<double>(common_options_.min_version_interval);
   while (true) {
     if (rebuild_pending_) {
       rebuild_pending_ = false;
@@ -320,11 +320,11 @@ void MergeEngineWorker::PublishVersion() {
   }
   std::string error;
   std::optional<OccupancyGrid> grid =
-      engine_->RenderGlobalMap(std::nullopt, options_.common.resolution, &error);
+      engine_->RenderGlobalMap(std::nullopt, common_options_.resolution, &error);
   if (!grid) {
     if (!error.empty()) std::cerr << "fleetmap-server: rendering failed: " << error << "\n";
     OccupancyGridOptions empty;
-    empty.resolution = options_.common.resolution;
+    empty.resolution = common_options_.resolution;
     grid.emplace(empty);
   }
   if (StoreAndPublish(std::move(info), *grid)) new_events_.clear();
